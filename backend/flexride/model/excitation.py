@@ -1,0 +1,185 @@
+"""Track excitation (track irregularity) schemas.
+
+A scenario lists any number of excitations; they are summed into one rail irregularity profile
+by :func:`flexride.track.irregularities.build_profile`. Each kind is selected by its ``kind``
+field (a pydantic discriminated union, :data:`Excitation`):
+
+``"random"``       :class:`RandomIrregularity` — stationary Gaussian irregularity from the German
+                   track spectra (DESIGN §6), band-limited in wavelength.
+``"corrugation"``  :class:`Corrugation` — continuous sinusoidal short-wave excitation.
+``"settlement"``   :class:`Settlement` — a single cosine dip (long-wave excitation).
+``"measured"``     :class:`MeasuredIrregularity` — irregularities read from a CSV file.
+
+Conventions (DESIGN §4): SI units, x along the track, y to the left, z up. Vertical rail
+irregularities are positive upwards, lateral ones positive to the left (so a positive gauge
+deviation, the left rail moving to +y and the right rail to −y, widens the gauge). Left rail at
+y = +b, right rail at y = −b.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal, Self
+
+from pydantic import Field, field_validator, model_validator
+
+from flexride.model.base import Schema
+
+__all__ = [
+    "IRREGULARITY_COMPONENTS",
+    "Component",
+    "Corrugation",
+    "Excitation",
+    "MeasuredIrregularity",
+    "Rails",
+    "RandomIrregularity",
+    "Settlement",
+    "SpectrumName",
+]
+
+Component = Literal["vertical", "alignment", "cross_level", "gauge"]
+"""An irregularity component: vertical profile, alignment, cross level or gauge."""
+
+IRREGULARITY_COMPONENTS: tuple[Component, ...] = ("vertical", "alignment", "cross_level", "gauge")
+"""All components, in the fixed order that also fixes each component's random stream."""
+
+SpectrumName = Literal["german-high", "german-low"]
+"""German track spectrum: high- or low-disturbance level."""
+
+Rails = Literal["both", "left", "right"]
+"""Which rail a local (vertical) defect is on."""
+
+
+class RandomIrregularity(Schema):
+    """Random track irregularity from the German track spectra.
+
+    A stationary zero-mean Gaussian realisation of the one-sided spectra of DESIGN §6
+    (m²/(rad/m) against spatial angular frequency Ω in rad/m), restricted to the wavelength band
+    ``wavelength_min_m`` … ``wavelength_max_m`` (hard band edges, no taper). The four components
+    are statistically independent; each is drawn from its own random stream derived from
+    ``seed``, so switching one component off does not change the others.
+
+    Rail mapping (see :mod:`flexride.track.irregularities`): with b = 0.75 m,
+    z_left = z_v + b·c, z_right = z_v − b·c (c the cross-level angle in rad, so the rail height
+    difference is 2b·c), y_left = y_a + g/2, y_right = y_a − g/2 (g the gauge deviation,
+    widening positive).
+    """
+
+    kind: Literal["random"] = "random"
+    spectrum: SpectrumName = Field(
+        "german-high", description="Track spectrum: German high or low disturbance (-)"
+    )
+    components: list[Component] = Field(
+        default_factory=lambda: list(IRREGULARITY_COMPONENTS),
+        min_length=1,
+        description="Irregularity components to generate (-); each at most once",
+    )
+    wavelength_min_m: float = Field(
+        1.0, ge=0.1, le=50.0, description="Shortest wavelength of the band (m)"
+    )
+    wavelength_max_m: float = Field(
+        120.0, gt=0.1, le=1000.0, description="Longest wavelength of the band (m)"
+    )
+    seed: int = Field(1, ge=0, description="Seed of the random generator (-)")
+    scale: float = Field(
+        1.0, ge=0.0, le=10.0, description="Amplitude factor applied to the realisation (-)"
+    )
+
+    @field_validator("components")
+    @classmethod
+    def _unique_components(cls, value: list[Component]) -> list[Component]:
+        duplicates = sorted({c for c in value if value.count(c) > 1})
+        if duplicates:
+            raise ValueError(f"components must be unique; repeated: {', '.join(duplicates)}")
+        return value
+
+    @model_validator(mode="after")
+    def _band_order(self) -> Self:
+        if not self.wavelength_max_m > self.wavelength_min_m:
+            raise ValueError(
+                f"wavelength_max_m ({self.wavelength_max_m} m) must exceed "
+                f"wavelength_min_m ({self.wavelength_min_m} m)"
+            )
+        return self
+
+
+class Corrugation(Schema):
+    """Rail corrugation: continuous sinusoidal short-wave vertical excitation.
+
+    The rail head follows z = −(depth/2)·(1 − cos(2π(s − start)/λ)) over a whole number of
+    wavelengths starting at ``start_m`` (troughs below the nominal rail level, smooth entry and
+    exit). Lateral irregularities are not affected.
+
+    Note on the paper's values: the paper prints "wavelength 0.5 mm, depth 1 mm", which is
+    physically impossible (a 0.5 mm wave is far shorter than the ~10 mm wheel–rail contact
+    patch and could not be followed by the wheel). It is read as 0.5 m wavelength and 1 mm
+    depth, the defaults here.
+    """
+
+    kind: Literal["corrugation"] = "corrugation"
+    wavelength_m: float = Field(0.5, ge=0.01, le=5.0, description="Corrugation wavelength (m)")
+    depth_m: float = Field(
+        0.001, ge=0.0, le=0.01, description="Corrugation depth, peak to peak (m)"
+    )
+    start_m: float = Field(
+        0.0, ge=0.0, description="Distance along the line where the corrugation starts (m)"
+    )
+    length_m: float | None = Field(
+        None,
+        gt=0.0,
+        description="Length of the corrugated stretch; null = to the end of the route (m)",
+    )
+    rails: Rails = Field("both", description="Corrugated rail(s) (-)")
+
+
+class Settlement(Schema):
+    """Track settlement: a single cosine dip (long-wave vertical excitation).
+
+    z = −(depth/2)·(1 − cos(2π(s − s0)/λ)) for s0 ≤ s ≤ s0 + λ, zero elsewhere, with
+    s0 = ``position_m``: the deepest point (z = −depth) is at s0 + λ/2. Lateral irregularities
+    are not affected. The paper's long-wave case is λ = 20 m, depth = 10 cm (the defaults).
+    """
+
+    kind: Literal["settlement"] = "settlement"
+    wavelength_m: float = Field(20.0, ge=1.0, le=500.0, description="Length of the dip (m)")
+    depth_m: float = Field(0.1, ge=0.0, le=0.5, description="Depth of the dip (m)")
+    position_m: float = Field(
+        50.0, ge=0.0, description="Distance along the line where the dip starts (m)"
+    )
+    rails: Rails = Field("both", description="Settled rail(s) (-)")
+
+
+class MeasuredIrregularity(Schema):
+    """Irregularities read from a CSV file (e.g. a track recording).
+
+    File format: comma separated, one header row naming the columns, then one row per
+    measurement point. Blank lines and lines starting with ``#`` are ignored. Columns:
+
+    * the distance column (``distance_column``, m along the line), strictly increasing;
+    * any of the component columns, in m:
+      ``vertical`` (mean of both rails, up positive), ``alignment`` (mean lateral position,
+      left positive), ``cross_level`` (rail height difference z_left − z_right, positive when
+      the left rail is higher), ``gauge`` (gauge deviation y_left − y_right, widening positive);
+    * and/or per-rail columns ``z_left``, ``z_right`` (vertical, up positive) and ``y_left``,
+      ``y_right`` (lateral, left positive), in m.
+
+    All given columns are added: z_left = vertical + cross_level/2 + z_left column,
+    z_right = vertical − cross_level/2 + z_right column, y_left = alignment + gauge/2 + y_left
+    column, y_right = alignment − gauge/2 + y_right column. Other columns are ignored. The data
+    are resampled linearly onto the profile grid and are zero outside the measured stretch.
+    """
+
+    kind: Literal["measured"] = "measured"
+    path: str = Field(..., min_length=1, description="Path of the CSV file (-)")
+    distance_column: str = Field(
+        "distance_m", min_length=1, description="Name of the distance column (m) in the file"
+    )
+    scale: float = Field(
+        1.0, ge=0.0, le=10.0, description="Amplitude factor applied to the measured data (-)"
+    )
+
+
+Excitation = Annotated[
+    RandomIrregularity | Corrugation | Settlement | MeasuredIrregularity,
+    Field(discriminator="kind"),
+]
+"""Any track excitation, selected by its ``kind`` field."""

@@ -1,0 +1,39 @@
+"""Line (alignment) schemas: straight track, or a curve with clothoid transitions and cant."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field
+
+from flexride.model.base import Schema
+
+
+class StraightLine(Schema):
+    """Straight, level track without cant."""
+
+    kind: Literal["straight"] = "straight"
+
+
+class CurvedLine(Schema):
+    """Straight lead-in, entry transition, circular arc, exit transition, straight lead-out.
+
+    Curvature and superelevation vary linearly along the transitions (clothoid with linear cant
+    ramp). ``start_m`` is the distance along the line where the entry transition begins.
+    """
+
+    kind: Literal["curve"] = "curve"
+    radius_m: float = Field(800.0, ge=50.0, le=1.0e5, description="Radius of the circular arc (m)")
+    direction: Literal["left", "right"] = Field("left", description="Direction of the curve")
+    superelevation_m: float = Field(
+        0.095, ge=0.0, le=0.2, description="Superelevation (cant) of the outer rail (m)"
+    )
+    entry_transition_m: float = Field(55.0, ge=0.0, le=1000.0, description="Entry transition length (m)")
+    exit_transition_m: float = Field(55.0, ge=0.0, le=1000.0, description="Exit transition length (m)")
+    arc_length_m: float = Field(200.0, ge=0.0, le=1.0e5, description="Length of the circular arc (m)")
+    start_m: float = Field(
+        40.0, ge=0.0, le=1.0e6, description="Position of the start of the entry transition (m)"
+    )
+
+
+Line = Annotated[StraightLine | CurvedLine, Field(discriminator="kind")]

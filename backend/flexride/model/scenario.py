@@ -1,0 +1,123 @@
+"""The scenario: everything one simulation needs, loadable from YAML or JSON."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import yaml
+from pydantic import Field, ValidationError, model_validator
+
+from flexride.errors import ScenarioError
+from flexride.model.base import Schema
+from flexride.model.contact import Contact
+from flexride.model.excitation import Excitation
+from flexride.model.line import Line, StraightLine
+from flexride.model.solver import Output, Solver
+from flexride.model.track import Track
+from flexride.model.vehicle import Vehicle
+
+
+class Scenario(Schema):
+    """One simulation: vehicle, track, line, excitation, speed, length, numerics and outputs.
+
+    Exactly one of ``duration_s`` and ``distance_m`` sets the length of the run.
+    """
+
+    name: str = Field("scenario", max_length=80, description="Scenario name")
+    description: str = Field("", max_length=4000, description="Free text")
+    vehicle: Vehicle
+    track: Track = Field(default_factory=Track)
+    line: Line = Field(default_factory=StraightLine)
+    contact: Contact = Field(default_factory=Contact)
+    excitation: list[Excitation] = Field(default_factory=list, description="Combined excitations")
+    speed_kmh: float = Field(..., gt=0.0, le=200.0, description="Running speed (km/h)")
+    duration_s: float | None = Field(None, gt=0.0, le=3600.0, description="Simulated time (s)")
+    distance_m: float | None = Field(None, gt=0.0, le=1.0e5, description="Distance to run (m)")
+    solver: Solver = Field(default_factory=Solver)
+    output: Output = Field(default_factory=Output)
+
+    @model_validator(mode="after")
+    def _one_length(self) -> Scenario:
+        if (self.duration_s is None) == (self.distance_m is None):
+            raise ValueError("give exactly one of duration_s (s) and distance_m (m)")
+        return self
+
+    @property
+    def speed_mps(self) -> float:
+        """Running speed (m/s)."""
+        return self.speed_kmh / 3.6
+
+    @property
+    def duration(self) -> float:
+        """Simulated time (s)."""
+        if self.duration_s is not None:
+            return self.duration_s
+        return float(self.distance_m) / self.speed_mps
+
+
+def format_validation_error(exc: ValidationError, source: str = "scenario") -> str:
+    """One readable message per error: the field path, what is wrong and the allowed range."""
+    lines = []
+    for err in exc.errors():
+        path = ".".join(str(p) for p in err["loc"]) or "(root)"
+        msg = err["msg"]
+        ctx = err.get("ctx") or {}
+        bounds = []
+        for key, sym in (("gt", ">"), ("ge", "≥"), ("lt", "<"), ("le", "≤")):
+            if key in ctx:
+                bounds.append(f"{sym} {ctx[key]}")
+        rng = f" (allowed: {', '.join(bounds)})" if bounds else ""
+        got = err.get("input")
+        got_txt = "" if isinstance(got, dict | list) else f", got {got!r}"
+        lines.append(f"{source}: {path}: {msg}{rng}{got_txt}")
+    return "; ".join(lines)
+
+
+def scenario_from_dict(data: dict[str, Any], source: str = "scenario") -> Scenario:
+    """Validate a mapping into a :class:`Scenario`, raising :class:`ScenarioError` on failure."""
+    if not isinstance(data, dict):
+        raise ScenarioError(f"{source}: a scenario must be a mapping, got {type(data).__name__}")
+    try:
+        return Scenario.model_validate(data)
+    except ValidationError as exc:
+        raise ScenarioError(format_validation_error(exc, source)) from None
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Load a scenario from a YAML (``.yaml``/``.yml``) or JSON (``.json``) file.
+
+    Raises
+    ------
+    ScenarioError
+        If the file is missing, unparsable or invalid (message names the field and range).
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise ScenarioError(f"scenario file not found: {p}")
+    text = p.read_text(encoding="utf-8")
+    try:
+        data = json.loads(text) if p.suffix.lower() == ".json" else yaml.safe_load(text)
+    except (json.JSONDecodeError, yaml.YAMLError) as exc:
+        raise ScenarioError(f"{p}: cannot parse: {str(exc).splitlines()[0]}") from None
+    return scenario_from_dict(data, source=str(p.name))
+
+
+def apply_overrides(data: dict[str, Any], overrides: dict[str, Any]) -> dict[str, Any]:
+    """Return a copy of ``data`` with dotted-path overrides applied (``"solver.dt": 5e-5``)."""
+    out = json.loads(json.dumps(data))
+    for dotted, value in overrides.items():
+        node = out
+        parts = dotted.split(".")
+        for part in parts[:-1]:
+            if isinstance(node, list):
+                node = node[int(part)]
+            else:
+                node = node.setdefault(part, {})
+        last = parts[-1]
+        if isinstance(node, list):
+            node[int(last)] = value
+        else:
+            node[last] = value
+    return out

@@ -1,0 +1,302 @@
+"""Assembly: a validated Scenario becomes SystemArrays plus the facts needed to read results.
+
+Runs once per scenario in NumPy; nothing here is in the time loop.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from flexride.contact.geometry import ContactTable, conical_table
+from flexride.contact.hertz import hertz_constant
+from flexride.model.excitation import RandomIrregularity
+from flexride.model.scenario import Scenario
+from flexride.track.irregularities import IrregularityProfile, build_profile
+from flexride.track.line_geometry import GRAVITY, LineTable, build_line_table
+from flexride.track.rail import RailModel, build_rail_model
+from flexride.vehicle.topology import VehicleModel, build_vehicle
+from flexride.solver import system as S
+
+RIGID_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
+RAIL_DIRS = ("vertical", "lateral", "torsion")
+SIDES = ("left", "right")
+#: Random irregularity fades in over this distance at the start of the route (m), so the run
+#: does not begin with a step.
+RANDOM_FADE_IN_M = 20.0
+#: Speed below which creepages are referred to this value instead (m/s): keeps creep forces
+#: finite at standstill (they saturate anyway).
+CREEP_MIN_SPEED = 0.5
+
+
+@dataclass
+class Assembly:
+    """SystemArrays and what is needed to interpret them."""
+
+    sys: S.SystemArrays
+    vehicle: VehicleModel
+    rail: RailModel
+    contact: ContactTable
+    line: LineTable
+    irregularity: IrregularityProfile
+    dof_names: list[str]
+    channel_names: list[str]
+    channel_units: list[str]
+    n_steps: int
+    output_rate: float
+    static_dofs: np.ndarray
+    meta: dict = field(default_factory=dict)
+
+
+def output_rate_for(scenario: Scenario) -> float:
+    """Output sample rate (Hz): the user's, else max(1 kHz, 20 samples per shortest excitation
+    period V/λ_min), rounded so that it divides the step rate 1/dt."""
+    step_rate = 1.0 / scenario.solver.dt
+    wanted = scenario.output.rate_hz
+    if wanted is None:
+        lam_min = np.inf
+        for exc in scenario.excitation:
+            lam = getattr(exc, "wavelength_min_m", None) or getattr(exc, "wavelength_m", None)
+            if lam:
+                lam_min = min(lam_min, float(lam))
+        wanted = 1000.0
+        if np.isfinite(lam_min):
+            wanted = max(wanted, 20.0 * scenario.speed_mps / lam_min)
+    ndec = max(1, int(np.floor(step_rate / wanted + 1e-9)))
+    return step_rate / ndec
+
+
+def _irregularity(scenario: Scenario, length: float) -> IrregularityProfile:
+    b = scenario.track.rail_centre_half_distance
+    total: IrregularityProfile | None = None
+    for exc in scenario.excitation:
+        prof = build_profile([exc], length, half_gauge=b)
+        if isinstance(exc, RandomIrregularity):
+            s = prof.s
+            w = np.clip(s / RANDOM_FADE_IN_M, 0.0, 1.0)
+            w = 0.5 - 0.5 * np.cos(np.pi * w)
+            prof = IrregularityProfile(prof.s0, prof.ds, prof.z_left * w, prof.z_right * w,
+                                       prof.y_left * w, prof.y_right * w)
+        total = prof if total is None else total + prof
+    if total is None:
+        total = IrregularityProfile.zeros(length, 1.0)
+    return total
+
+
+def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembly:
+    """Build the SystemArrays of ``scenario``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Validated scenario.
+    vehicle : VehicleModel, optional
+        A prebuilt vehicle (e.g. with flexible bodies); built from the scenario otherwise.
+    """
+    veh = vehicle or build_vehicle(scenario.vehicle, scenario.output)
+    bodies = veh.bodies
+    nb = len(bodies)
+    ndof = np.array([b.n_dof for b in bodies], dtype=np.int64)
+    off = np.concatenate([[0], np.cumsum(ndof)[:-1]]).astype(np.int64)
+    n_veh = int(ndof.sum())
+
+    sol = scenario.solver
+    ws_x = np.array([bodies[i].x_ref for i in veh.wheelsets])
+    span = float(ws_x.max() - ws_x.min())
+    fas = scenario.track.fastener
+    nshift = max(1, int(round(sol.rail_shift_m / fas.spacing)))
+    rail = build_rail_model(scenario.track, span, sol.rail_margin_m, nshift * fas.spacing)
+    nm = rail.n_modes
+    n = n_veh + 6 * nm
+
+    # inverse generalised mass
+    minv = np.empty(n)
+    kdiag = np.zeros(n_veh)
+    cdiag = np.zeros(n_veh)
+    for b, o in zip(bodies, off, strict=True):
+        minv[o:o + b.n_dof] = 1.0 / b.mass_diagonal()
+        kdiag[o:o + b.n_dof] = b.modal_stiffness()
+        cdiag[o:o + b.n_dof] = b.modal_damping()
+    for r in range(2):
+        o = n_veh + 3 * r * nm
+        minv[o:o + nm] = 1.0 / rail.mass
+        minv[o + nm:o + 2 * nm] = 1.0 / rail.mass
+        minv[o + 2 * nm:o + 3 * nm] = 1.0 / rail.roll_inertia
+
+    # marker matrices, flat
+    phi_chunks: list[np.ndarray] = []
+    phi_off: dict[tuple[int, str], int] = {}
+    pos = 0
+
+    def marker_offset(bi: int, name: str) -> int:
+        nonlocal pos
+        key = (bi, name)
+        if key not in phi_off:
+            m = np.ascontiguousarray(bodies[bi].markers[name], dtype=float)
+            phi_off[key] = pos
+            phi_chunks.append(m.ravel())
+            pos += m.size
+        return phi_off[key]
+
+    ne = len(veh.elements)
+    el_a = np.empty(ne, np.int64)
+    el_b = np.empty(ne, np.int64)
+    el_pa = np.empty(ne, np.int64)
+    el_pb_off = np.empty(ne, np.int64)
+    el_k = np.empty((ne, 6))
+    el_c = np.empty((ne, 6))
+    el_pb = np.empty((ne, 3))
+    for e, el in enumerate(veh.elements):
+        el_a[e], el_b[e] = el.body_a, el.body_b
+        el_pa[e] = marker_offset(el.body_a, el.marker_a)
+        el_pb_off[e] = marker_offset(el.body_b, el.marker_b)
+        el_k[e], el_c[e] = el.stiffness, el.damping
+        p = bodies[el.body_b].marker_positions[el.marker_b]
+        el_pb[e] = (p[0], p[1], p[2] + bodies[el.body_b].cg_height)
+
+    pt_body = np.array([p[1] for p in veh.points], dtype=np.int64)
+    pt_phi = np.array([marker_offset(p[1], p[2]) for p in veh.points], dtype=np.int64)
+    phi = np.concatenate(phi_chunks) if phi_chunks else np.zeros(1)
+
+    # contact
+    c = scenario.contact
+    r0 = veh.wheel_radius
+    b0 = veh.rolling_circle_half_distance
+    table = conical_table(r0=r0, conicity=c.conicity, b0=b0, flange_clearance=c.flange_clearance,
+                          flange_stiffness=c.flange_stiffness, rail_head_radius=c.rail_head_radius,
+                          E=scenario.track.rail.youngs_modulus, nu=c.poisson)
+    tparams, tdata = table.as_arrays()
+    ct = np.ascontiguousarray(tdata.transpose(1, 0, 2))
+
+    # route: vehicle centre runs from 0 to distance
+    speed = scenario.speed_mps
+    duration = scenario.duration
+    dist = speed * duration
+    x_lo = min(b.x_ref for b in bodies) - 20.0
+    x_hi = max(b.x_ref for b in bodies) + 20.0
+    b_rail = scenario.track.rail_centre_half_distance
+    line = build_line_table(scenario.line, x_lo - 5.0, dist + x_hi + 5.0, b_rail)
+    irr = _irregularity(scenario, dist + x_hi + 5.0)
+
+    n_steps = int(round(duration / sol.dt))
+    rate = output_rate_for(scenario)
+    ndec = int(round(1.0 / (sol.dt * rate)))
+
+    # channels
+    names: list[str] = []
+    units: list[str] = []
+    kinds: list[tuple[int, int, int]] = []
+    for p, (pname, bi, _m) in enumerate(veh.points):
+        bname = bodies[bi].name
+        for kind, d in ((S.CH_POINT_ACC_Y, "y"), (S.CH_POINT_ACC_Z, "z")):
+            names.append(f"{bname}.{pname}.acc.{d}")
+            units.append("m/s^2")
+            kinds.append((kind, p, 0))
+    for w, bi in enumerate(veh.wheelsets):
+        wname = bodies[bi].name
+        for sd, side in enumerate(SIDES):
+            for kind, q, u in ((S.CH_WHEEL_FZ, "force.z", "N"), (S.CH_WHEEL_FY, "force.y", "N"),
+                               (S.CH_WHEEL_N, "force.n", "N"), (S.CH_RAIL_Z, "rail_disp.z", "m"),
+                               (S.CH_RAIL_Y, "rail_disp.y", "m")):
+                names.append(f"{wname}.{side}.{q}")
+                units.append(u)
+                kinds.append((kind, w, sd))
+    coord_channels = [("disp.x", 0, "m"), ("disp.y", 1, "m"), ("disp.z", 2, "m"),
+                      ("rot.x", 3, "rad"), ("rot.y", 4, "rad"), ("rot.z", 5, "rad")]
+    for bi, body in enumerate(bodies):
+        for q, j, u in coord_channels:
+            if body.is_wheelset and j == 4:
+                q, u = "spin.y", "rad"
+            names.append(f"{body.name}.cg.{q}")
+            units.append(u)
+            kinds.append((S.CH_COORD, int(off[bi] + j), 0))
+    ch = np.array(kinds, dtype=np.int64).reshape(-1, 3)
+
+    # dof names and the subset solved in statics (vertical plane + rails + elastic modes)
+    dof_names: list[str] = []
+    static = []
+    for bi, body in enumerate(bodies):
+        for j in range(body.n_dof):
+            nm_ = RIGID_NAMES[j] if j < 6 else f"mode{j - 5}"
+            dof_names.append(f"{body.name}.{nm_}")
+            if j in (2, 3) or j >= 6 or (j == 4 and not body.is_wheelset):
+                static.append(int(off[bi] + j))
+    for side in SIDES:
+        for d in RAIL_DIRS:
+            dof_names.extend(f"rail.{side}.{d}.mode{k + 1}" for k in range(nm))
+    static.extend(range(n_veh, n))
+
+    fpar = np.zeros(S.N_FPAR)
+    fpar[S.F_DT] = sol.dt
+    fpar[S.F_PSI] = sol.psi
+    fpar[S.F_PHI] = sol.phi
+    fpar[S.F_SPEED] = speed
+    fpar[S.F_GRAVITY] = GRAVITY
+    fpar[S.F_B0] = b0
+    fpar[S.F_R0] = r0
+    fpar[S.F_RAIL_B] = b_rail
+    fpar[S.F_WIN_LEN] = rail.length
+    fpar[S.F_SPACING] = rail.spacing
+    fpar[S.F_RAIL_M] = rail.mass
+    fpar[S.F_RAIL_J] = rail.roll_inertia
+    fpar[S.F_H_FOOT] = rail.h_foot
+    fpar[S.F_H_HEAD] = rail.h_head
+    fpar[S.F_KZ_D] = rail.kz / rail.spacing
+    fpar[S.F_CZ_D] = rail.cz / rail.spacing
+    fpar[S.F_KY_D] = rail.ky / rail.spacing
+    fpar[S.F_CY_D] = rail.cy / rail.spacing
+    fpar[S.F_KR_D] = rail.k_roll / rail.spacing
+    fpar[S.F_CR_D] = rail.c_roll / rail.spacing
+    fpar[S.F_MU] = c.friction
+    fpar[S.F_GSHEAR] = c.shear_modulus
+    fpar[S.F_HERTZ_G] = hertz_constant(r0, c.hertz_tread)
+    fpar[S.F_FL_CLEAR] = c.flange_clearance
+    fpar[S.F_FL_K] = c.flange_stiffness
+    fpar[S.F_RUNAWAY] = sol.runaway_displacement_m
+    fpar[S.F_VMIN] = CREEP_MIN_SPEED
+    fpar[S.F_CT_Y0] = tparams[0]
+    fpar[S.F_CT_DY] = tparams[1]
+    fpar[S.F_IRR_S0] = irr.s0
+    fpar[S.F_IRR_DS] = irr.ds
+    fpar[S.F_LN_S0] = line.s0
+    fpar[S.F_LN_DS] = line.ds
+    fpar[S.F_S_START] = 0.0
+    fpar[S.F_MARGIN] = sol.rail_margin_m
+
+    ipar = np.zeros(S.N_IPAR, dtype=np.int64)
+    ipar[S.I_NVEH] = n_veh
+    ipar[S.I_NRAIL_MODES] = nm
+    ipar[S.I_NBODIES] = nb
+    ipar[S.I_NELEM] = ne
+    ipar[S.I_NWS] = len(veh.wheelsets)
+    ipar[S.I_NDEC] = ndec
+    ipar[S.I_SHIFT_BAYS] = nshift
+    ipar[S.I_NPOINTS] = len(veh.points)
+    ipar[S.I_NCH] = len(names)
+
+    sysarr = S.SystemArrays(
+        fpar=fpar, ipar=ipar, minv=minv, kdiag=kdiag, cdiag=cdiag,
+        body_off=off, body_ndof=ndof,
+        body_x=np.array([b.x_ref for b in bodies]),
+        body_h=np.array([b.cg_height for b in bodies]),
+        body_mass=np.array([b.mass for b in bodies]),
+        body_inertia=np.ascontiguousarray(np.array([b.inertia for b in bodies], dtype=float)),
+        body_ws=np.array([1 if b.is_wheelset else 0 for b in bodies], dtype=np.int64),
+        phi=phi, el_a=el_a, el_b=el_b, el_phia=el_pa, el_phib=el_pb_off,
+        el_k=el_k, el_c=el_c, el_pb=el_pb,
+        ws_body=np.array(veh.wheelsets, dtype=np.int64),
+        rail_kz=rail.vertical_stiffness(), rail_kyb=rail.lateral_bending_stiffness(),
+        rail_ktb=rail.torsional_stiffness(), rail_kap=rail.wavenumbers(),
+        rail_dst=np.ascontiguousarray(rail.sine_matrix()),
+        ct=ct,
+        irr=np.ascontiguousarray(np.vstack([irr.z_left, irr.z_right, irr.y_left, irr.y_right])),
+        line=line.as_array(),
+        pt_body=pt_body, pt_phi=pt_phi,
+        ch_kind=np.ascontiguousarray(ch[:, 0]), ch_a=np.ascontiguousarray(ch[:, 1]),
+        ch_b=np.ascontiguousarray(ch[:, 2]),
+    )
+    return Assembly(sys=sysarr, vehicle=veh, rail=rail, contact=table, line=line,
+                    irregularity=irr, dof_names=dof_names, channel_names=names,
+                    channel_units=units, n_steps=n_steps, output_rate=rate,
+                    static_dofs=np.array(static, dtype=np.int64))

@@ -1,0 +1,399 @@
+"""Generalised forces of the coupled vehicle–track system (numba, no allocation).
+
+``evaluate`` fills the generalised force vector for given coordinates and velocities; the
+kernel divides by the diagonal mass. It is split into the three parts the benchmark times
+separately: vehicle (inertial, gravity, elastic and suspension forces), rail (fastener and beam
+forces) and contact (wheel–rail normal, creep and flange forces with their projection on the
+rail modes).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+from flexride._numba_env import FASTMATH
+from flexride.contact.creep import creep_forces
+from flexride.contact.hertz import hertz_force
+from flexride.solver.system import (
+    AUX_DELTA,
+    AUX_FX,
+    AUX_FY,
+    AUX_FZ,
+    AUX_N,
+    AUX_RAIL_Y,
+    AUX_RAIL_Z,
+    CT_C11,
+    CT_C22,
+    CT_C23,
+    CT_C33,
+    CT_CA,
+    CT_CB,
+    CT_DZ,
+    CT_GAMMA,
+    CT_R,
+    CT_YC,
+    F_B0,
+    F_CR_D,
+    F_CT_DY,
+    F_CT_Y0,
+    F_CY_D,
+    F_CZ_D,
+    F_FL_CLEAR,
+    F_FL_K,
+    F_GRAVITY,
+    F_GSHEAR,
+    F_H_FOOT,
+    F_H_HEAD,
+    F_HERTZ_G,
+    F_IRR_DS,
+    F_IRR_S0,
+    F_KR_D,
+    F_KY_D,
+    F_LN_DS,
+    F_LN_S0,
+    F_MU,
+    F_R0,
+    F_SPEED,
+    F_VMIN,
+    F_WIN_LEN,
+    I_NBODIES,
+    I_NELEM,
+    I_NRAIL_MODES,
+    I_NVEH,
+    I_NWS,
+    LN_DKAPPA,
+    LN_HEADING,
+    LN_HINT,
+    LN_KAPPA,
+    LN_ROLL,
+)
+
+_FM = set(FASTMATH)
+
+
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def table_value(row, y0, dy, y):
+    """Linear interpolation in a uniform table, clamped at both ends."""
+    n = row.shape[0]
+    u = (y - y0) / dy
+    if u <= 0.0:
+        return row[0]
+    if u >= n - 1:
+        return row[n - 1]
+    i = int(u)
+    f = u - i
+    return row[i] + f * (row[i + 1] - row[i])
+
+
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def _lerp_or_zero(row, s0, ds, s):
+    """Linear interpolation on a uniform grid, zero outside it (irregularities)."""
+    n = row.shape[0]
+    u = (s - s0) / ds
+    if u < 0.0 or u > n - 1:
+        return 0.0
+    i = int(u)
+    if i >= n - 1:
+        return row[n - 1]
+    f = u - i
+    return row[i] + f * (row[i + 1] - row[i])
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def frame_specific_force(sys, s):
+    """Specific force (m/s²) a body following the track frame at ``s`` needs: (lateral,
+    vertical) components in the canted track frame, plus curvature rate terms.
+
+    Returns (f_y, f_z, kappa, roll, dkappa): f = a_frame − g, so that a body at rest in the
+    frame feels f (an accelerometer reads f).
+    """
+    fp = sys.fpar
+    ln = sys.line
+    s0, ds = fp[F_LN_S0], fp[F_LN_DS]
+    kap = table_value(ln[LN_KAPPA], s0, ds, s)
+    roll = table_value(ln[LN_ROLL], s0, ds, s)
+    dk = table_value(ln[LN_DKAPPA], s0, ds, s)
+    v2 = fp[F_SPEED] * fp[F_SPEED]
+    g = fp[F_GRAVITY]
+    c, sn = math.cos(roll), math.sin(roll)
+    f_y = v2 * kap * c + g * sn
+    f_z = -v2 * kap * sn + g * c
+    return f_y, f_z, kap, roll, dk
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def vehicle_forces(sys, X, V, s, F):
+    """Inertial (track frame), gravity, elastic and suspension forces on the vehicle bodies."""
+    fp = sys.fpar
+    ip = sys.ipar
+    nb = ip[I_NBODIES]
+    speed = fp[F_SPEED]
+    phi = sys.phi
+    ln = sys.line
+    ls0, lds = fp[F_LN_S0], fp[F_LN_DS]
+    # bodies: gravity + frame acceleration on rigid coordinates, elastic restoring forces
+    for b in range(nb):
+        o = sys.body_off[b]
+        nd = sys.body_ndof[b]
+        sb = s + sys.body_x[b]
+        f_y, f_z, kap, roll, dk = frame_specific_force(sys, sb)
+        m = sys.body_mass[b]
+        F[o + 1] -= m * f_y
+        F[o + 2] -= m * f_z
+        F[o + 5] -= sys.body_inertia[b, 2] * speed * speed * dk
+        for j in range(6, nd):
+            F[o + j] -= sys.kdiag[o + j] * X[o + j] + sys.cdiag[o + j] * V[o + j]
+        if sys.body_ws[b] == 1:
+            # spin gyroscopics: I_y Ω (ψ̇ + Vκ) in roll, −I_y Ω φ̇ in yaw
+            h = sys.body_inertia[b, 1] * speed / fp[F_R0]
+            F[o + 3] += h * (V[o + 5] + speed * kap)
+            F[o + 5] -= h * V[o + 3]
+    # suspension elements
+    ne = ip[I_NELEM]
+    for e in range(ne):
+        a = sys.el_a[e]
+        bb = sys.el_b[e]
+        oa, na = sys.body_off[a], sys.body_ndof[a]
+        ob, nbd = sys.body_off[bb], sys.body_ndof[bb]
+        pa, pb = sys.el_phia[e], sys.el_phib[e]
+        sa = s + sys.body_x[a]
+        sbp = s + sys.body_x[bb]
+        L = sys.body_x[bb] - sys.body_x[a]
+        # relative placement of B's track frame seen from A's (small angles)
+        ha = table_value(ln[LN_HEADING], ls0, lds, sa)
+        hb = table_value(ln[LN_HEADING], ls0, lds, sbp)
+        Ha = table_value(ln[LN_HINT], ls0, lds, sa)
+        Hb = table_value(ln[LN_HINT], ls0, lds, sbp)
+        ra = table_value(ln[LN_ROLL], ls0, lds, sa)
+        rb = table_value(ln[LN_ROLL], ls0, lds, sbp)
+        ka = table_value(ln[LN_KAPPA], ls0, lds, sa)
+        kb = table_value(ln[LN_KAPPA], ls0, lds, sbp)
+        dyh = (Hb - Ha) - ha * L
+        dh = hb - ha
+        dphi = rb - ra
+        # rates along the line (d/ds), times speed below
+        ddyh = dh - ka * L
+        ddh = kb - ka
+        ddphi = (table_value(ln[LN_ROLL], ls0, lds, sbp + 0.5 * lds)
+                 - table_value(ln[LN_ROLL], ls0, lds, sbp - 0.5 * lds)
+                 - table_value(ln[LN_ROLL], ls0, lds, sa + 0.5 * lds)
+                 + table_value(ln[LN_ROLL], ls0, lds, sa - 0.5 * lds)) / lds
+        cra, sra = math.cos(ra), math.sin(ra)
+        xb, yb, zb = sys.el_pb[e, 0], sys.el_pb[e, 1], sys.el_pb[e, 2]
+        g0 = -dh * yb
+        g1 = cra * dyh + dh * xb - dphi * zb
+        g2 = -sra * dyh + dphi * yb
+        gd0 = speed * (-ddh * yb)
+        gd1 = speed * (cra * ddyh + ddh * xb - ddphi * zb)
+        gd2 = speed * (-sra * ddyh + ddphi * yb)
+        for r in range(6):
+            kr = sys.el_k[e, r]
+            cr = sys.el_c[e, r]
+            if kr == 0.0 and cr == 0.0:
+                continue
+            da = 0.0
+            va = 0.0
+            base = pa + r * na
+            for j in range(na):
+                w = phi[base + j]
+                da += w * X[oa + j]
+                va += w * V[oa + j]
+            base = pb + r * nbd
+            for j in range(nbd):
+                w = phi[base + j]
+                da -= w * X[ob + j]
+                va -= w * V[ob + j]
+            if r == 0:
+                da -= g0
+                va -= gd0
+            elif r == 1:
+                da -= g1
+                va -= gd1
+            elif r == 2:
+                da -= g2
+                va -= gd2
+            elif r == 3:
+                da -= dphi
+                va -= speed * ddphi
+            elif r == 5:
+                da -= dh
+                va -= speed * ddh
+            f = -kr * da - cr * va
+            base = pa + r * na
+            for j in range(na):
+                F[oa + j] += phi[base + j] * f
+            base = pb + r * nbd
+            for j in range(nbd):
+                F[ob + j] -= phi[base + j] * f
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def rail_forces(sys, X, V, F):
+    """Beam and fastener forces of both rails, per mode (diagonal thanks to discrete
+    orthogonality of sine modes at evenly spaced fasteners)."""
+    fp = sys.fpar
+    ip = sys.ipar
+    nm = ip[I_NRAIL_MODES]
+    nv = ip[I_NVEH]
+    czd = fp[F_CZ_D]
+    kyd, cyd = fp[F_KY_D], fp[F_CY_D]
+    krd, crd = fp[F_KR_D], fp[F_CR_D]
+    hf = fp[F_H_FOOT]
+    for rail in range(2):
+        oz = nv + (3 * rail) * nm
+        oy = oz + nm
+        ot = oy + nm
+        for k in range(nm):
+            F[oz + k] -= sys.rail_kz[k] * X[oz + k] + czd * V[oz + k]
+            qy, qt = X[oy + k], X[ot + k]
+            vy, vt = V[oy + k], V[ot + k]
+            ffoot = -kyd * (qy + hf * qt) - cyd * (vy + hf * vt)
+            F[oy + k] += -sys.rail_kyb[k] * qy + ffoot
+            F[ot + k] += -(sys.rail_ktb[k] + krd) * qt - crd * vt + hf * ffoot
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def contact_forces(sys, X, V, s, s_win0, F, aux, sn):
+    """Wheel–rail forces of every wheel, on the wheelsets and projected on the rail modes.
+
+    ``sn`` is scratch of length n_modes; ``aux[w, side, :]`` receives per-wheel values.
+    """
+    fp = sys.fpar
+    ip = sys.ipar
+    nm = ip[I_NRAIL_MODES]
+    nv = ip[I_NVEH]
+    nw = ip[I_NWS]
+    speed = fp[F_SPEED]
+    vref = max(speed, fp[F_VMIN])
+    b0, r0 = fp[F_B0], fp[F_R0]
+    hh = fp[F_H_HEAD]
+    G = fp[F_HERTZ_G]
+    gsh, mu = fp[F_GSHEAR], fp[F_MU]
+    clear, kfl = fp[F_FL_CLEAR], fp[F_FL_K]
+    ct = sys.ct
+    y0, dy = fp[F_CT_Y0], fp[F_CT_DY]
+    irr = sys.irr
+    is0, ids = fp[F_IRR_S0], fp[F_IRR_DS]
+    scale = 2.0 / fp[F_WIN_LEN]
+    for w in range(nw):
+        b = sys.ws_body[w]
+        o = sys.body_off[b]
+        sw = s + sys.body_x[b]
+        xw = sw - s_win0
+        # sines of all modes at the wheel (Chebyshev recurrence)
+        th = sys.rail_kap[0] * xw
+        c2 = 2.0 * math.cos(th)
+        s_prev = 0.0
+        s_cur = math.sin(th)
+        for k in range(nm):
+            sn[k] = s_cur
+            s_next = c2 * s_cur - s_prev
+            s_prev = s_cur
+            s_cur = s_next
+        xw_ = X[o + 0]
+        yw, zw, rw, psw = X[o + 1], X[o + 2], X[o + 3], X[o + 5]
+        vxw, vyw, vrw, vbw, vpsw = V[o + 0], V[o + 1], V[o + 3], V[o + 4], V[o + 5]
+        _ = xw_
+        for side in range(2):
+            sg = 1.0 if side == 0 else -1.0
+            oz = nv + (3 * side) * nm
+            oy = oz + nm
+            ot = oy + nm
+            zr = 0.0
+            yr = 0.0
+            tr = 0.0
+            vyr = 0.0
+            vtr = 0.0
+            for k in range(nm):
+                sk = sn[k]
+                zr += sk * X[oz + k]
+                yr += sk * X[oy + k]
+                tr += sk * X[ot + k]
+                vyr += sk * V[oy + k]
+                vtr += sk * V[ot + k]
+            z_irr = _lerp_or_zero(irr[side], is0, ids, sw)
+            y_irr = _lerp_or_zero(irr[2 + side], is0, ids, sw)
+            y_head = yr - hh * tr + y_irr
+            vy_head = vyr - hh * vtr
+            dyrel = yw - y_head
+            r_c = table_value(ct[side, CT_R], y0, dy, dyrel)
+            gam = table_value(ct[side, CT_GAMMA], y0, dy, dyrel)
+            dzc = table_value(ct[side, CT_DZ], y0, dy, dyrel)
+            yc = table_value(ct[side, CT_YC], y0, dy, dyrel)
+            delta = (zr + z_irr) - (zw + sg * b0 * rw) + dzc
+            N = hertz_force(delta, G)
+            fx = 0.0
+            fy = 0.0
+            mz = 0.0
+            if N > 0.0:
+                xi_x = (speed * (1.0 - r_c / r0) + vxw - sg * b0 * vpsw - r_c * vbw) / vref
+                xi_y = (vyw + r_c * vrw - vy_head) / vref - psw
+                xi_sp = vpsw / vref - sg * math.sin(gam) / r0
+                fx, fy, mz = creep_forces(
+                    xi_x, xi_y, xi_sp, N,
+                    table_value(ct[side, CT_CA], y0, dy, dyrel),
+                    table_value(ct[side, CT_CB], y0, dy, dyrel),
+                    table_value(ct[side, CT_C11], y0, dy, dyrel),
+                    table_value(ct[side, CT_C22], y0, dy, dyrel),
+                    table_value(ct[side, CT_C23], y0, dy, dyrel),
+                    table_value(ct[side, CT_C33], y0, dy, dyrel),
+                    gsh, mu)
+            ge = gam + sg * rw
+            cg, sgm = math.cos(ge), math.sin(ge)
+            # force on the wheel in the track frame (normal n, lateral tangent t)
+            fwy = fy * cg - sg * N * sgm
+            fwz = sg * fy * sgm + N * cg
+            fwx = fx
+            # flange: stiff lateral spring beyond the clearance, on the flange side only
+            if side == 0 and dyrel > clear:
+                fwy -= kfl * (dyrel - clear)
+            elif side == 1 and dyrel < -clear:
+                fwy -= kfl * (dyrel + clear)
+            # moments about the wheelset centre: contact point (0, ±b0 + yc, −r)
+            ry = sg * b0 + yc
+            rz = -r_c
+            mx = ry * fwz - rz * fwy
+            my = rz * fwx - sg * sgm * mz
+            mzz = -ry * fwx + mz * cg
+            F[o + 0] += fwx
+            F[o + 1] += fwy
+            F[o + 2] += fwz
+            F[o + 3] += mx
+            F[o + 4] += my
+            F[o + 5] += mzz
+            # reaction on the rail at the running surface: P, Q, torque about the shear centre
+            pr = -fwz
+            qr = -fwy
+            mr = -hh * qr
+            cpz = scale * pr
+            cpy = scale * qr
+            cpt = scale * mr
+            for k in range(nm):
+                sk = sn[k]
+                F[oz + k] += cpz * sk
+                F[oy + k] += cpy * sk
+                F[ot + k] += cpt * sk
+            aux[w, side, AUX_FZ] = fwz
+            aux[w, side, AUX_FY] = fwy
+            aux[w, side, AUX_FX] = fwx
+            aux[w, side, AUX_N] = N
+            aux[w, side, AUX_RAIL_Z] = zr
+            aux[w, side, AUX_RAIL_Y] = yr - hh * tr
+            aux[w, side, AUX_DELTA] = delta
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def evaluate(sys, X, V, s, s_win0, F, A, aux, sn):
+    """Generalised forces ``F`` and accelerations ``A = F / m`` at coordinates ``X``,
+    velocities ``V``, vehicle-centre position ``s`` (m) and rail-window start ``s_win0`` (m)."""
+    n = F.shape[0]
+    for i in range(n):
+        F[i] = 0.0
+    vehicle_forces(sys, X, V, s, F)
+    rail_forces(sys, X, V, F)
+    contact_forces(sys, X, V, s, s_win0, F, aux, sn)
+    minv = sys.minv
+    for i in range(n):
+        A[i] = F[i] * minv[i]

@@ -1,0 +1,242 @@
+"""The time loop: Zhai's explicit two-step integration of the whole system in one numba
+function (DESIGN §3.5), over flat arrays, with no allocation inside.
+
+X_{n+1} = X_n + V_n Δt + (½ + ψ) A_n Δt² − ψ A_{n−1} Δt²
+V_{n+1} = V_n + (1 + φ) A_n Δt − φ A_{n−1} Δt          (first step: ψ = φ = 0)
+
+Outputs are decimated: accelerations of points are the mean over each output interval
+(velocity difference divided by the interval, an exact boxcar average that keeps aliasing
+down), wheel–rail forces are averaged over the interval, displacements are sampled.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+from flexride._numba_env import FASTMATH
+from flexride.solver.forces import evaluate, frame_specific_force
+from flexride.solver.system import (
+    AUX_FY,
+    AUX_FZ,
+    AUX_N,
+    AUX_RAIL_Y,
+    AUX_RAIL_Z,
+    CH_COORD,
+    CH_POINT_ACC_Y,
+    CH_POINT_ACC_Z,
+    CH_RAIL_Y,
+    CH_RAIL_Z,
+    CH_WHEEL_FY,
+    CH_WHEEL_FZ,
+    CH_WHEEL_N,
+    F_DT,
+    F_GRAVITY,
+    F_MARGIN,
+    F_PHI,
+    F_PSI,
+    F_RUNAWAY,
+    F_S_START,
+    F_SPACING,
+    F_SPEED,
+    F_WIN_LEN,
+    I_NCH,
+    I_NDEC,
+    I_NPOINTS,
+    I_NRAIL_MODES,
+    I_NVEH,
+    I_NWS,
+    I_SHIFT_BAYS,
+    T_FIRST,
+    T_NREC,
+    T_STEP,
+    T_TIME,
+    T_WIN_S0,
+)
+
+_FM = set(FASTMATH)
+
+STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY, STATUS_FULL = 0, 1, 2, 3
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def shift_window(sys, X, V, Ap, nshift, u, q):
+    """Move the rail window forward by ``nshift`` fastener bays.
+
+    The modal state of each rail and direction is converted to values at the fasteners
+    (discrete sine transform, exact on the N − 1 modes), shifted, and converted back; the bays
+    entering at the front start undeformed. Applied to coordinates, velocities and the previous
+    accelerations of Zhai's scheme.
+    """
+    nm = sys.ipar[I_NRAIL_MODES]
+    nv = sys.ipar[I_NVEH]
+    dst = sys.rail_dst
+    nb = nm + 1
+    for arr_id in range(3):
+        arr = X if arr_id == 0 else (V if arr_id == 1 else Ap)
+        for blk in range(6):
+            o = nv + blk * nm
+            for j in range(nm):
+                acc = 0.0
+                for k in range(nm):
+                    acc += dst[j, k] * arr[o + k]
+                u[j] = acc
+            for j in range(nm):
+                jj = j + nshift
+                q[j] = u[jj] if jj < nm else 0.0
+            for k in range(nm):
+                acc = 0.0
+                for j in range(nm):
+                    acc += dst[j, k] * q[j]
+                arr[o + k] = acc * 2.0 / nb
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
+    fp = sys.fpar
+    ip = sys.ipar
+    k = int(tstate[T_NREC])
+    if k >= rec.shape[0]:
+        return False
+    ndec = ip[I_NDEC]
+    tout = ndec * fp[F_DT]
+    g = fp[F_GRAVITY]
+    phi = sys.phi
+    for p in range(ip[I_NPOINTS]):
+        b = sys.pt_body[p]
+        o = sys.body_off[b]
+        nd = sys.body_ndof[b]
+        base = sys.pt_phi[p]
+        vy = 0.0
+        vz = 0.0
+        rx = 0.0
+        for j in range(nd):
+            vy += phi[base + nd + j] * V[o + j]
+            vz += phi[base + 2 * nd + j] * V[o + j]
+            rx += phi[base + 3 * nd + j] * X[o + j]
+        ay = (vy - ptv[p, 0]) / tout
+        az = (vz - ptv[p, 1]) / tout
+        ptv[p, 0] = vy
+        ptv[p, 1] = vz
+        f_y, f_z, _, _, _ = frame_specific_force(sys, s + sys.body_x[b])
+        pscr[p, 0] = ay + f_y + rx * f_z
+        pscr[p, 1] = az + f_z - rx * f_y - g
+    for c in range(ip[I_NCH]):
+        kind = sys.ch_kind[c]
+        a = sys.ch_a[c]
+        bb = sys.ch_b[c]
+        if kind == CH_POINT_ACC_Y:
+            val = pscr[a, 0]
+        elif kind == CH_POINT_ACC_Z:
+            val = pscr[a, 1]
+        elif kind == CH_WHEEL_FZ:
+            val = facc[a, bb, 0] / ndec
+        elif kind == CH_WHEEL_FY:
+            val = facc[a, bb, 1] / ndec
+        elif kind == CH_WHEEL_N:
+            val = facc[a, bb, 2] / ndec
+        elif kind == CH_RAIL_Z:
+            val = aux[a, bb, AUX_RAIL_Z]
+        elif kind == CH_RAIL_Y:
+            val = aux[a, bb, AUX_RAIL_Y]
+        elif kind == CH_COORD:
+            val = X[a] - X0[a]
+        else:
+            val = math.nan
+        rec[k, c] = val
+    rec_t[k] = tstate[T_TIME]
+    rec_s[k] = s
+    tstate[T_NREC] = k + 1
+    nw = ip[I_NWS]
+    for w in range(nw):
+        for sd in range(2):
+            facc[w, sd, 0] = 0.0
+            facc[w, sd, 1] = 0.0
+            facc[w, sd, 2] = 0.0
+    return True
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def _check(sys, X, X0, info):
+    """Return STATUS_OK, or a fault status with the offending coordinate in ``info[0]``."""
+    n = X.shape[0]
+    for i in range(n):
+        if not math.isfinite(X[i]):
+            info[0] = i
+            return STATUS_NONFINITE
+    lim = sys.fpar[F_RUNAWAY]
+    for b in range(sys.body_off.shape[0]):
+        o = sys.body_off[b]
+        for j in range(3):
+            if abs(X[o + j] - X0[o + j]) > lim:
+                info[0] = o + j
+                return STATUS_RUNAWAY
+    return STATUS_OK
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def run_chunk(sys, X, V, A, Ap, F, aux, sn, facc, ptv, pscr, X0, u, q, tstate, n_steps,
+              rec, rec_t, rec_s, info):
+    """Advance the system by up to ``n_steps`` steps of Zhai's method.
+
+    Returns a status code (STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY or STATUS_FULL when the
+    record buffer is full); ``tstate`` carries time, window start, step and record counters.
+    """
+    fp = sys.fpar
+    ip = sys.ipar
+    dt = fp[F_DT]
+    speed = fp[F_SPEED]
+    n = X.shape[0]
+    ndec = ip[I_NDEC]
+    nw = ip[I_NWS]
+    spacing = fp[F_SPACING]
+    win_len = fp[F_WIN_LEN]
+    margin = fp[F_MARGIN]
+    x_front = -1e30
+    for w in range(nw):
+        xb = sys.body_x[sys.ws_body[w]]
+        if xb > x_front:
+            x_front = xb
+    nshift = ip[I_SHIFT_BAYS]
+    dt2 = dt * dt
+    for _ in range(n_steps):
+        if tstate[T_FIRST] == 0.0:
+            psi = 0.0
+            ph = 0.0
+            tstate[T_FIRST] = 1.0
+        else:
+            psi = fp[F_PSI]
+            ph = fp[F_PHI]
+        c1 = (0.5 + psi) * dt2
+        c2 = psi * dt2
+        c3 = (1.0 + ph) * dt
+        c4 = ph * dt
+        for i in range(n):
+            a = A[i]
+            ap = Ap[i]
+            X[i] += V[i] * dt + c1 * a - c2 * ap
+            V[i] += c3 * a - c4 * ap
+            Ap[i] = a
+        t = tstate[T_TIME] + dt
+        tstate[T_TIME] = t
+        s = fp[F_S_START] + speed * t
+        # move the rail window when the front wheelset nears its end
+        if s + x_front - tstate[T_WIN_S0] > win_len - margin:
+            shift_window(sys, X, V, Ap, nshift, u, q)
+            tstate[T_WIN_S0] += nshift * spacing
+        evaluate(sys, X, V, s, tstate[T_WIN_S0], F, A, aux, sn)
+        for w in range(nw):
+            for sd in range(2):
+                facc[w, sd, 0] += aux[w, sd, AUX_FZ]
+                facc[w, sd, 1] += aux[w, sd, AUX_FY]
+                facc[w, sd, 2] += aux[w, sd, AUX_N]
+        step = tstate[T_STEP] + 1.0
+        tstate[T_STEP] = step
+        if int(step) % ndec == 0:
+            st = _check(sys, X, X0, info)
+            if st != STATUS_OK:
+                return st
+            if not _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
+                return STATUS_FULL
+    return STATUS_OK

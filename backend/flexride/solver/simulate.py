@@ -1,0 +1,161 @@
+"""``simulate(scenario) -> Results``: assemble, find static equilibrium, check the time step,
+integrate in chunks (progress and cancellation between chunks), collect the channels."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from flexride.errors import SimulationCancelled, SimulationError
+from flexride.model.scenario import Scenario
+from flexride.results import Results
+from flexride.solver import system as S
+from flexride.solver.assemble import Assembly, assemble
+from flexride.solver.kernel import (
+    STATUS_FULL,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_RUNAWAY,
+    run_chunk,
+)
+from flexride.solver.stability import check_stability
+from flexride.solver.static import initial_window_start, static_equilibrium
+from flexride.vehicle.topology import VehicleModel
+
+ProgressCallback = Callable[[float, str], None]
+CancelCallback = Callable[[], bool]
+
+
+def _static_wheel_loads(asm: Assembly, X0: np.ndarray, s_win0: float) -> list[list[float]]:
+    from flexride.solver.forces import evaluate
+    from flexride.solver.linearise import workspace
+
+    F, A, aux, sn = workspace(asm.sys)
+    evaluate(asm.sys, X0.copy(), np.zeros_like(X0), 0.0, s_win0, F, A, aux, sn)
+    return [[float(aux[w, 0, S.AUX_FZ]), float(aux[w, 1, S.AUX_FZ])]
+            for w in range(aux.shape[0])]
+
+
+def simulate(scenario: Scenario, progress: ProgressCallback | None = None,
+             cancel: CancelCallback | None = None,
+             vehicle: VehicleModel | None = None) -> Results:
+    """Simulate the vehicle running over the track of ``scenario``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Validated scenario.
+    progress : callable(fraction, message), optional
+        Called after every chunk of ``solver.progress_every_steps`` steps with the fraction done
+        (0–1) and a short message.
+    cancel : callable() -> bool, optional
+        Polled after every chunk; returning True stops the run with
+        :class:`~flexride.errors.SimulationCancelled`.
+    vehicle : VehicleModel, optional
+        Prebuilt vehicle (e.g. with flexible bodies) instead of the scenario's rigid one.
+
+    Returns
+    -------
+    Results
+        Decimated channels (accelerations m/s², forces N, displacements m, rotations rad).
+
+    Raises
+    ------
+    StabilityError
+        The time step is beyond the explicit method's stability limit.
+    SimulationError
+        The run diverged (NaN, inf or runaway displacement), with the time and the quantity.
+    SimulationCancelled
+        ``cancel()`` returned True.
+    """
+    t_start = time.perf_counter()
+    report = progress or (lambda f, m: None)
+    report(0.0, "assembling")
+    asm = assemble(scenario, vehicle=vehicle)
+    sysarr = asm.sys
+    s_win0 = initial_window_start(asm, 0.0)
+    report(0.0, "static equilibrium")
+    X0 = static_equilibrium(asm, 0.0, s_win0)
+    stab = None
+    if scenario.solver.check_stability:
+        report(0.0, "checking the time step")
+        stab = check_stability(asm, X0, 0.0, s_win0)
+    t_ready = time.perf_counter()
+
+    n = X0.shape[0]
+    X = X0.copy()
+    V = np.zeros(n)
+    F = np.zeros(n)
+    A = np.zeros(n)
+    Ap = np.zeros(n)
+    nw = sysarr.ws_body.shape[0]
+    nm = sysarr.rail_kap.shape[0]
+    npnt = sysarr.pt_body.shape[0]
+    aux = np.zeros((nw, 2, S.N_AUX))
+    sn = np.zeros(nm)
+    facc = np.zeros((nw, 2, 3))
+    ptv = np.zeros((npnt, 2))
+    pscr = np.zeros((npnt, 2))
+    u = np.zeros(nm)
+    q = np.zeros(nm)
+    info = np.zeros(2, dtype=np.int64)
+    tstate = np.zeros(S.N_TSTATE)
+    tstate[S.T_WIN_S0] = s_win0
+    ndec = int(sysarr.ipar[S.I_NDEC])
+    n_rec = asm.n_steps // ndec
+    nch = len(asm.channel_names)
+    rec = np.zeros((n_rec, nch))
+    rec_t = np.zeros(n_rec)
+    rec_s = np.zeros(n_rec)
+
+    from flexride.solver.forces import evaluate
+
+    evaluate(sysarr, X, V, 0.0, s_win0, F, A, aux, sn)
+    chunk = int(scenario.solver.progress_every_steps)
+    done = 0
+    t_loop = time.perf_counter()
+    while done < asm.n_steps:
+        steps = min(chunk, asm.n_steps - done)
+        status = run_chunk(sysarr, X, V, A, Ap, F, aux, sn, facc, ptv, pscr, X0, u, q, tstate,
+                           steps, rec, rec_t, rec_s, info)
+        done = int(tstate[S.T_STEP])
+        if status in (STATUS_NONFINITE, STATUS_RUNAWAY):
+            what = asm.dof_names[int(info[0])]
+            kind = "became NaN or infinite" if status == STATUS_NONFINITE else (
+                f"exceeded {scenario.solver.runaway_displacement_m:g} m from static equilibrium")
+            raise SimulationError(
+                f"the run diverged at t = {tstate[S.T_TIME]:.4f} s: coordinate {what} {kind}; "
+                f"try a smaller solver.dt or check the parameters")
+        if status not in (STATUS_OK, STATUS_FULL):
+            raise SimulationError(f"kernel returned unknown status {status}")
+        frac = done / asm.n_steps
+        report(frac, f"t = {tstate[S.T_TIME]:.2f} s of {scenario.duration:.2f} s")
+        if cancel is not None and cancel():
+            raise SimulationCancelled(f"cancelled at t = {tstate[S.T_TIME]:.3f} s")
+        if status == STATUS_FULL:
+            break
+    t_end = time.perf_counter()
+    k = int(tstate[S.T_NREC])
+    channels = {name: np.ascontiguousarray(rec[:k, i])
+                for i, name in enumerate(asm.channel_names)}
+    units = dict(zip(asm.channel_names, asm.channel_units, strict=True))
+    meta = {
+        "speed_mps": scenario.speed_mps,
+        "speed_kmh": scenario.speed_kmh,
+        "dt": scenario.solver.dt,
+        "output_rate": asm.output_rate,
+        "n_steps": done,
+        "n_dof": int(n),
+        "rail_modes_per_direction": int(nm),
+        "rail_window_m": float(asm.rail.length),
+        "static_wheel_loads": _static_wheel_loads(asm, X0, s_win0),
+        "stability": stab,
+        "wall_time_setup_s": t_ready - t_start,
+        "wall_time_solve_s": t_end - t_loop,
+        "output_points": [p[0] for p in asm.vehicle.points if p[1] == 0],
+    }
+    report(1.0, "done")
+    return Results(time=rec_t[:k].copy(), distance=rec_s[:k].copy(), channels=channels,
+                   units=units, scenario=scenario.model_dump(mode="json"), meta=meta)

@@ -1,0 +1,69 @@
+"""Static equilibrium of the vehicle on the track (Newton's method with a finite-difference
+Jacobian), so that a run starts without a settling transient."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from flexride.errors import SimulationError
+from flexride.solver.assemble import Assembly
+from flexride.solver.linearise import accelerations, jacobian
+from flexride.solver.system import F_GRAVITY, F_HERTZ_G, F_MARGIN
+
+
+def initial_window_start(asm: Assembly, s: float = 0.0) -> float:
+    """Rail-window start (m) that puts the rearmost wheelset ``margin`` from the window's rear
+    end, aligned with the fastener grid."""
+    veh = asm.vehicle
+    x_rear = min(veh.bodies[i].x_ref for i in veh.wheelsets)
+    margin = asm.sys.fpar[F_MARGIN]
+    d = asm.rail.spacing
+    return float(np.floor((s + x_rear - margin) / d) * d)
+
+
+def static_equilibrium(asm: Assembly, s: float = 0.0, s_win0: float | None = None,
+                       tol: float = 1e-9, max_iter: int = 40) -> np.ndarray:
+    """Coordinates of static equilibrium at position ``s`` (m) on the line.
+
+    Solves A(X) = 0 for the vertical-plane body coordinates, the elastic modes and the rail
+    modes (longitudinal, lateral and yaw rigid-body coordinates stay at zero: on level straight
+    track nothing loads them statically).
+
+    Raises
+    ------
+    SimulationError
+        If Newton's method does not converge.
+    """
+    sys = asm.sys
+    if s_win0 is None:
+        s_win0 = initial_window_start(asm, s)
+    n = sys.minv.shape[0]
+    X = np.zeros(n)
+    V = np.zeros(n)
+    # initial guess: each wheel carries an eighth of the weight (closes the Hertz contacts)
+    weight = asm.vehicle.total_mass * sys.fpar[F_GRAVITY]
+    n_wheels = 2 * len(asm.vehicle.wheelsets)
+    delta0 = sys.fpar[F_HERTZ_G] * (weight / n_wheels) ** (2.0 / 3.0)
+    for w in asm.vehicle.wheelsets:
+        X[sys.body_off[w] + 2] = -delta0
+    idx = asm.static_dofs
+    scale = 1.0 / sys.minv[idx]  # residual in force units
+    res_norm = np.inf
+    for _ in range(max_iter):
+        A = accelerations(sys, X, V, s, s_win0)
+        r = A[idx] * scale
+        res_norm = float(np.linalg.norm(r))
+        J = jacobian(sys, X, V, s, s_win0, idx)[idx] * scale[:, None]
+        dx = np.linalg.solve(J, -r)
+        lam = 1.0
+        for _ls in range(20):
+            Xt = X.copy()
+            Xt[idx] += lam * dx
+            rt = accelerations(sys, Xt, V, s, s_win0)[idx] * scale
+            if np.linalg.norm(rt) < res_norm or lam < 1e-3:
+                break
+            lam *= 0.5
+        X = Xt
+        if np.max(np.abs(lam * dx)) < tol:
+            return X
+    raise SimulationError(f"static equilibrium did not converge (residual {res_norm:.3g} N)")

@@ -1,0 +1,204 @@
+"""Vehicle topology: bodies, suspension elements at their real positions, output points.
+
+Bodies (front to rear): ``carbody``; ``frame1`` (front bogie), ``frame2`` (rear bogie);
+``wheelset1`` … ``wheelset4``. Each body's reference frame follows the track at the body's own
+position along the line (DESIGN §3.2). Suspension elements are three-directional spring–dampers
+(plus optional rotational springs) between two markers that coincide in the nominal geometry,
+so roll, pitch and yaw coupling follows from where the elements sit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from flexride.bodies import ModalBody, rigid_body
+from flexride.model.solver import Output, OutputPoint
+from flexride.model.vehicle import Vehicle
+
+#: The paper's car-body measurement points (DESIGN §5) as (name, x, y, where) with x, y in m from
+#: the body centre and where "floor" or "roof"; x of the bogie points is ± half the bogie spacing.
+PAPER_POINTS = ("PR", "PFB", "PC", "PRB", "PLA", "PRA")
+
+
+@dataclass
+class SuspensionElement:
+    """Linear spring–damper between marker ``marker_a`` of body ``body_a`` and ``marker_b`` of
+    ``body_b``. Stiffness and damping are given for the six relative motions (x, y, z in N/m and
+    N·s/m; roll, pitch, yaw in N·m/rad and N·m·s/rad), in the track frame of body A."""
+
+    name: str
+    body_a: int
+    marker_a: str
+    body_b: int
+    marker_b: str
+    stiffness: np.ndarray
+    damping: np.ndarray
+
+
+@dataclass
+class VehicleModel:
+    """Bodies, suspension elements and recorded points of one vehicle."""
+
+    bodies: list[ModalBody]
+    elements: list[SuspensionElement]
+    wheelsets: list[int]
+    points: list[tuple[str, int, str]] = field(default_factory=list)
+    rolling_circle_half_distance: float = 0.7465
+    wheel_radius: float = 0.42
+
+    def body_index(self, name: str) -> int:
+        """Index of the body called ``name``."""
+        for i, b in enumerate(self.bodies):
+            if b.name == name:
+                return i
+        raise KeyError(name)
+
+    @property
+    def total_mass(self) -> float:
+        """Mass of the whole vehicle (kg)."""
+        return float(sum(b.mass for b in self.bodies))
+
+
+def _six(k3: tuple[float, float, float], kr: tuple[float, float, float] = (0.0, 0.0, 0.0)):
+    return np.array([*k3, *kr], dtype=float)
+
+
+def paper_point_positions(params: Vehicle, output: Output) -> list[OutputPoint]:
+    """The paper's points PR, PFB, PC, PRB, PLA, PRA in car-body coordinates (DESIGN §5)."""
+    lc = params.geometry.bogie_centre_spacing / 2.0
+    ys = params.geometry.secondary_lateral_half_spacing
+    fl, rf = output.floor_height_m, output.roof_height_m
+    return [
+        OutputPoint(name="PR", x=lc, y=0.0, z=rf),
+        OutputPoint(name="PFB", x=lc, y=0.0, z=fl),
+        OutputPoint(name="PC", x=0.0, y=0.0, z=fl),
+        OutputPoint(name="PRB", x=-lc, y=0.0, z=fl),
+        OutputPoint(name="PLA", x=-lc, y=ys, z=fl),
+        OutputPoint(name="PRA", x=-lc, y=-ys, z=fl),
+    ]
+
+
+def build_vehicle(params: Vehicle, output: Output | None = None,
+                  carbody: ModalBody | None = None,
+                  frames: tuple[ModalBody, ModalBody] | None = None) -> VehicleModel:
+    """Build the 7-body metro vehicle from its parameters.
+
+    Parameters
+    ----------
+    params : Vehicle
+        Validated vehicle parameters.
+    output : Output, optional
+        Output settings (floor/roof heights, user points).
+    carbody, frames : ModalBody, optional
+        Flexible replacements for the rigid car body / bogie frames (same names and reference
+        positions); markers are added to them here.
+
+    Returns
+    -------
+    VehicleModel
+    """
+    output = output or Output()
+    g = params.geometry
+    lc = g.bogie_centre_spacing / 2.0
+    lw = g.wheelbase / 2.0
+    cb, fr, ws = params.carbody, params.frame, params.wheelset
+
+    bodies: list[ModalBody] = []
+    bodies.append(carbody or rigid_body("carbody", cb.mass, (cb.ixx, cb.iyy, cb.izz), 0.0,
+                                        cb.cg_height))
+    frame_x = (lc, -lc)
+    for i, x in enumerate(frame_x):
+        if frames is not None:
+            bodies.append(frames[i])
+        else:
+            bodies.append(rigid_body(f"frame{i + 1}", fr.mass, (fr.ixx, fr.iyy, fr.izz), x,
+                                     fr.cg_height))
+    ws_x = (lc + lw, lc - lw, -lc + lw, -lc - lw)
+    for i, x in enumerate(ws_x):
+        bodies.append(rigid_body(f"wheelset{i + 1}", ws.mass, (ws.ixx, ws.iyy, ws.izz), x,
+                                 ws.cg_height, is_wheelset=True))
+    ic = 0
+    i_frames = (1, 2)
+    i_ws = (3, 4, 5, 6)
+
+    elements: list[SuspensionElement] = []
+    p, s, o = params.primary, params.secondary, params.optional
+    k_prim = _six((p.kx, p.ky, p.kz))
+    c_prim = _six((p.cx, p.cy, p.cz))
+    k_sec = _six((s.kx, s.ky, s.kz))
+    c_sec = _six((s.cx, s.cy, s.cz))
+
+    carbody_body = bodies[ic]
+    for jf, i_f in enumerate(i_frames):
+        frame = bodies[i_f]
+        xf = frame.x_ref
+        # secondary suspension: air springs left and right
+        for side, ys in (("L", g.secondary_lateral_half_spacing),
+                         ("R", -g.secondary_lateral_half_spacing)):
+            m_c = f"as{jf + 1}{side}"
+            carbody_body.add_marker(m_c, (xf - carbody_body.x_ref, ys,
+                                          g.secondary_height - carbody_body.cg_height))
+            frame.add_marker(m_c, (0.0, ys, g.secondary_height - frame.cg_height))
+            elements.append(SuspensionElement(f"secondary.{jf + 1}{side}", ic, m_c, i_f, m_c,
+                                              k_sec.copy(), c_sec.copy()))
+        # optional: anti-roll bar, secondary lateral damper, yaw dampers
+        centre = f"bogie{jf + 1}"
+        carbody_body.add_marker(centre, (xf - carbody_body.x_ref, 0.0,
+                                         g.secondary_height - carbody_body.cg_height))
+        frame.add_marker(centre, (0.0, 0.0, g.secondary_height - frame.cg_height))
+        if o.anti_roll_bar_stiffness > 0.0:
+            elements.append(SuspensionElement(
+                f"anti_roll_bar.{jf + 1}", ic, centre, i_f, centre,
+                _six((0.0, 0.0, 0.0), (o.anti_roll_bar_stiffness, 0.0, 0.0)), np.zeros(6)))
+        if o.secondary_lateral_damper > 0.0:
+            m = f"latdamper{jf + 1}"
+            carbody_body.add_marker(m, (xf - carbody_body.x_ref, 0.0,
+                                        o.secondary_lateral_damper_height - carbody_body.cg_height))
+            frame.add_marker(m, (0.0, 0.0, o.secondary_lateral_damper_height - frame.cg_height))
+            elements.append(SuspensionElement(f"lateral_damper.{jf + 1}", ic, m, i_f, m,
+                                              np.zeros(6),
+                                              _six((0.0, o.secondary_lateral_damper, 0.0))))
+        if o.yaw_damper > 0.0:
+            for side, ys in (("L", o.yaw_damper_lateral_half_spacing),
+                             ("R", -o.yaw_damper_lateral_half_spacing)):
+                m = f"yawdamper{jf + 1}{side}"
+                carbody_body.add_marker(m, (xf - carbody_body.x_ref, ys,
+                                            g.secondary_height - carbody_body.cg_height))
+                frame.add_marker(m, (0.0, ys, g.secondary_height - frame.cg_height))
+                elements.append(SuspensionElement(f"yaw_damper.{jf + 1}{side}", ic, m, i_f, m,
+                                                  np.zeros(6), _six((o.yaw_damper, 0.0, 0.0))))
+        # primary suspension: two axle boxes per wheelset
+        for i_w in i_ws[2 * jf: 2 * jf + 2]:
+            wheelset = bodies[i_w]
+            dx = wheelset.x_ref - xf
+            for side, ys in (("L", g.primary_lateral_half_spacing),
+                             ("R", -g.primary_lateral_half_spacing)):
+                m = f"axlebox{side}"
+                m_f = f"{wheelset.name}.{m}"
+                frame.add_marker(m_f, (dx, ys, g.primary_height - frame.cg_height))
+                wheelset.add_marker(m, (0.0, ys, g.primary_height - wheelset.cg_height),
+                                    lock_pitch=True)
+                elements.append(SuspensionElement(f"primary.{wheelset.name}.{side}", i_f, m_f,
+                                                  i_w, m, k_prim.copy(), c_prim.copy()))
+
+    # recorded points
+    points: list[tuple[str, int, str]] = []
+    user = list(output.points)
+    names = set()
+    for pt in paper_point_positions(params, output) + user:
+        if pt.name in names:
+            raise ValueError(f"output point {pt.name!r} is defined twice")
+        names.add(pt.name)
+        marker = f"point.{pt.name}"
+        carbody_body.add_marker(marker, (pt.x, pt.y, pt.z - carbody_body.cg_height))
+        points.append((pt.name, ic, marker))
+    for i in (*i_frames, *i_ws):
+        b = bodies[i]
+        b.add_marker("centre", (0.0, 0.0, 0.0), lock_pitch=b.is_wheelset)
+        points.append(("centre", i, "centre"))
+
+    return VehicleModel(bodies=bodies, elements=elements, wheelsets=list(i_ws), points=points,
+                        rolling_circle_half_distance=g.rolling_circle_half_distance,
+                        wheel_radius=g.wheel_radius)
