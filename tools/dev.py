@@ -51,8 +51,12 @@ def main(argv: list[str]) -> int:
     cmd, rest = argv[0], argv[1:]
     if cmd == "run":
         ensure_venv()
-        args = rest or ["--preset", "paper-random-straight-80",
-                        "-o", str(ROOT / "results" / "paper-random-straight-80.h5")]
+        args = rest or [
+            "--preset",
+            "paper-random-straight-80",
+            "-o",
+            str(ROOT / "results" / "paper-random-straight-80.h5"),
+        ]
         return subprocess.call([str(BIN / "flexride"), "run", *args], cwd=ROOT)
     ensure_venv("dev")
     return subprocess.call([str(BIN / "python"), "-m", "pytest", *rest], cwd=ROOT)

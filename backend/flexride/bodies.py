@@ -117,8 +117,13 @@ class ModalBody:
         w = 2.0 * np.pi * self.elastic_frequencies
         return np.concatenate([np.zeros(6), 2.0 * self.elastic_damping * w])
 
-    def add_marker(self, name: str, position: tuple[float, float, float] | np.ndarray,
-                   elastic: np.ndarray | None = None, lock_pitch: bool = False) -> None:
+    def add_marker(
+        self,
+        name: str,
+        position: tuple[float, float, float] | np.ndarray,
+        elastic: np.ndarray | None = None,
+        lock_pitch: bool = False,
+    ) -> None:
         """Add a marker at ``position`` (m, relative to the CG, body axes).
 
         Parameters
@@ -148,8 +153,20 @@ class ModalBody:
         self.marker_positions[name] = pos
 
 
-def rigid_body(name: str, mass: float, inertia: tuple[float, float, float], x_ref: float,
-               cg_height: float, is_wheelset: bool = False) -> ModalBody:
+def rigid_body(
+    name: str,
+    mass: float,
+    inertia: tuple[float, float, float],
+    x_ref: float,
+    cg_height: float,
+    is_wheelset: bool = False,
+) -> ModalBody:
     """A rigid :class:`ModalBody` (six rigid modes, no elastic modes)."""
-    return ModalBody(name=name, mass=float(mass), inertia=np.asarray(inertia, dtype=float),
-                     x_ref=float(x_ref), cg_height=float(cg_height), is_wheelset=is_wheelset)
+    return ModalBody(
+        name=name,
+        mass=float(mass),
+        inertia=np.asarray(inertia, dtype=float),
+        x_ref=float(x_ref),
+        cg_height=float(cg_height),
+        is_wheelset=is_wheelset,
+    )

@@ -74,7 +74,9 @@ class Results:
         try:
             return self.channels[name]
         except KeyError:
-            raise KeyError(f"no channel {name!r}; channels are: {', '.join(sorted(self.channels))}")
+            raise KeyError(
+                f"no channel {name!r}; channels are: {', '.join(sorted(self.channels))}"
+            ) from None
 
     def names(self, quantity: str | None = None, body: str | None = None) -> list[str]:
         """Channel names, optionally filtered by quantity (``acc``, ``force``...) and body."""
@@ -118,8 +120,9 @@ class Results:
                 f.create_dataset("distance", data=self.distance).attrs["unit"] = "m"
                 grp = f.create_group("channels")
                 for name, data in self.channels.items():
-                    ds = grp.create_dataset(name, data=data, compression="gzip", compression_opts=4,
-                                            shuffle=True)
+                    ds = grp.create_dataset(
+                        name, data=data, compression="gzip", compression_opts=4, shuffle=True
+                    )
                     ds.attrs["unit"] = self.units.get(name, "")
             os.replace(tmp_name, dest)
         except BaseException:

@@ -107,13 +107,21 @@ def running_rms(
     return _window_rms(x, fs, n_win, 1)
 
 
-def _window_rms(x: np.ndarray, fs: float, n_win: int, step: int) -> tuple[np.ndarray, np.ndarray]:
-    """rms over windows of ``n_win`` samples ending at samples n_win−1, n_win−1+step, ..."""
-    csum = np.zeros(x.shape[:-1] + (x.shape[-1] + 1,))
-    np.cumsum(x * x, axis=-1, out=csum[..., 1:])
-    ends = np.arange(n_win, x.shape[-1] + 1, step)
-    ms = (csum[..., ends] - csum[..., ends - n_win]) / n_win
-    return (ends - 1) / fs, np.sqrt(np.clip(ms, 0.0, None))
+def _window_rms(x: np.ndarray, fs: float, n_win: int, step: int,
+                sq: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """rms over windows of ``n_win`` samples ending at samples n_win−1, n_win−1+step, ...
+
+    ``sq`` may pass x² when the caller has it already.
+    """
+    csum = np.zeros((*x.shape[:-1], x.shape[-1] + 1))
+    np.cumsum(x * x if sq is None else sq, axis=-1, out=csum[..., 1:])
+    hi = csum[..., n_win::step]
+    m = hi.shape[-1]
+    ms = hi - csum[..., : (m - 1) * step + 1 : step]
+    ms *= 1.0 / n_win
+    np.clip(ms, 0.0, None, out=ms)
+    ends = n_win + step * np.arange(m)
+    return (ends - 1) / fs, np.sqrt(ms, out=ms)
 
 
 def mtvv(x_weighted: np.ndarray, fs: float, tau: float = 1.0) -> float | np.ndarray:
@@ -127,7 +135,8 @@ def vdv(x_weighted: np.ndarray, fs: float) -> float | np.ndarray:
     """Fourth-power vibration dose value (∫ a_w⁴ dt)^(1/4) in m/s^1.75."""
     fs = check_rate(fs)
     x = check_signal(x_weighted, fs, name="signal", min_samples=1, method="VDV")
-    v = (np.sum(x**4, axis=-1) / fs) ** 0.25
+    sq = x * x
+    v = (np.sum(sq * sq, axis=-1) / fs) ** 0.25
     return float(v) if v.ndim == 0 else v
 
 
@@ -250,11 +259,12 @@ def iso2631_comfort(
 def _iso_from_weighted(
     x: np.ndarray, aw_sig: np.ndarray, fs: float, weighting: str, tau: float, method: str
 ) -> Iso2631Result:
-    a_w = float(np.sqrt(np.mean(aw_sig**2)))
-    raw = float(np.sqrt(np.mean(x**2)))
-    _, rr = _window_rms(aw_sig, fs, max(1, round(tau * fs)), 1)
+    sq = aw_sig * aw_sig
+    a_w = float(np.sqrt(np.mean(sq)))
+    raw = float(np.sqrt(np.dot(x, x) / x.size))
+    _, rr = _window_rms(aw_sig, fs, max(1, round(tau * fs)), 1, sq=sq)
     m = float(rr.max())
-    v = float((np.sum(aw_sig**4) / fs) ** 0.25)
+    v = float((np.dot(sq, sq) / fs) ** 0.25)
     duration = x.shape[-1] / fs
     if a_w > 0.0:
         cf = float(np.max(np.abs(aw_sig)) / a_w)

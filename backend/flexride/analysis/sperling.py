@@ -96,7 +96,8 @@ def _direction(direction: str) -> str:
         return "vertical"
     if d in ("y", "lateral", "l", "h", "horizontal"):
         return "lateral"
-    raise AnalysisError(f"Sperling direction must be 'vertical'/'z' or 'lateral'/'y', got {direction!r}")
+    raise AnalysisError(
+        f"Sperling direction must be 'vertical'/'z' or 'lateral'/'y', got {direction!r}")
 
 
 @dataclass

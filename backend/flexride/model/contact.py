@@ -35,7 +35,10 @@ class Contact(Schema):
     )
     poisson: float = Field(0.28, ge=0.0, le=0.5, description="Poisson's ratio of steel (-)")
     flange_clearance: float = Field(
-        0.008, gt=0.0, le=0.05, description="Lateral wheelset displacement at which the flange touches (m)"
+        0.008,
+        gt=0.0,
+        le=0.05,
+        description="Lateral wheelset displacement at which the flange touches (m)",
     )
     flange_stiffness: float = Field(
         1.5e8, gt=1e5, le=1e10, description="Lateral contact stiffness of the flange (N/m)"

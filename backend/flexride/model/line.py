@@ -28,9 +28,15 @@ class CurvedLine(Schema):
     superelevation_m: float = Field(
         0.095, ge=0.0, le=0.2, description="Superelevation (cant) of the outer rail (m)"
     )
-    entry_transition_m: float = Field(55.0, ge=0.0, le=1000.0, description="Entry transition length (m)")
-    exit_transition_m: float = Field(55.0, ge=0.0, le=1000.0, description="Exit transition length (m)")
-    arc_length_m: float = Field(200.0, ge=0.0, le=1.0e5, description="Length of the circular arc (m)")
+    entry_transition_m: float = Field(
+        55.0, ge=0.0, le=1000.0, description="Entry transition length (m)"
+    )
+    exit_transition_m: float = Field(
+        55.0, ge=0.0, le=1000.0, description="Exit transition length (m)"
+    )
+    arc_length_m: float = Field(
+        200.0, ge=0.0, le=1.0e5, description="Length of the circular arc (m)"
+    )
     start_m: float = Field(
         40.0, ge=0.0, le=1.0e6, description="Position of the start of the entry transition (m)"
     )

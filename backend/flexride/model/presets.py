@@ -29,18 +29,34 @@ from flexride.model.scenario import Scenario, apply_overrides, scenario_from_dic
 PAPER_SPEEDS_KMH = (50, 60, 70, 80)
 
 PAPER_VEHICLE: dict[str, Any] = {
-    "carbody": {"mass": 35443.0, "ixx": 50929.0, "iyy": 1410960.0, "izz": 1401490.0,
-                "cg_height": 1.50},
+    "carbody": {
+        "mass": 35443.0,
+        "ixx": 50929.0,
+        "iyy": 1410960.0,
+        "izz": 1401490.0,
+        "cg_height": 1.50,
+    },
     "frame": {"mass": 4007.0, "ixx": 1194.0, "iyy": 876.0, "izz": 2099.0, "cg_height": 0.65},
     "wheelset": {"mass": 1878.0, "ixx": 1055.0, "iyy": 139.0, "izz": 1055.0, "cg_height": 0.42},
     "geometry": {
-        "bogie_centre_spacing": 12.6, "wheelbase": 2.2, "wheel_radius": 0.42,
-        "rolling_circle_half_distance": 0.7465, "primary_lateral_half_spacing": 1.0,
-        "primary_height": 0.50, "secondary_lateral_half_spacing": 0.95, "secondary_height": 0.90,
+        "bogie_centre_spacing": 12.6,
+        "wheelbase": 2.2,
+        "wheel_radius": 0.42,
+        "rolling_circle_half_distance": 0.7465,
+        "primary_lateral_half_spacing": 1.0,
+        "primary_height": 0.50,
+        "secondary_lateral_half_spacing": 0.95,
+        "secondary_height": 0.90,
     },
     "primary": {"kx": 7.0e6, "ky": 4.0e6, "kz": 0.9e6, "cx": 1.0e4, "cy": 1.0e4, "cz": 1.0e4},
-    "secondary": {"kx": 220.1e3, "ky": 220.1e3, "kz": 341.9e3, "cx": 6.0e4, "cy": 6.0e4,
-                  "cz": 8.0e4},
+    "secondary": {
+        "kx": 220.1e3,
+        "ky": 220.1e3,
+        "kz": 341.9e3,
+        "cx": 6.0e4,
+        "cy": 6.0e4,
+        "cz": 8.0e4,
+    },
 }
 
 PAPER_TRACK: dict[str, Any] = {
@@ -48,25 +64,53 @@ PAPER_TRACK: dict[str, Any] = {
     "fastener": {"spacing": 0.6, "kz": 3.0e7, "cz": 1.0e4, "ky": 3.0e7, "cy": 1.0e4},
 }
 
-PAPER_RANDOM = {"kind": "random", "spectrum": "german-high", "wavelength_min_m": 1.0,
-                "wavelength_max_m": 120.0, "seed": 1}
+PAPER_RANDOM = {
+    "kind": "random",
+    "spectrum": "german-high",
+    "wavelength_min_m": 1.0,
+    "wavelength_max_m": 120.0,
+    "seed": 1,
+}
 PAPER_CORRUGATION = {"kind": "corrugation", "wavelength_m": 0.5, "depth_m": 0.001, "start_m": 0.0}
-PAPER_SETTLEMENT = {"kind": "settlement", "wavelength_m": 20.0, "depth_m": 0.10,
-                    "position_m": 40.0}
-PAPER_CURVE = {"kind": "curve", "radius_m": 800.0, "direction": "left", "superelevation_m": 0.095,
-               "entry_transition_m": 55.0, "exit_transition_m": 55.0, "arc_length_m": 200.0,
-               "start_m": 40.0}
+PAPER_SETTLEMENT = {"kind": "settlement", "wavelength_m": 20.0, "depth_m": 0.10, "position_m": 40.0}
+PAPER_CURVE = {
+    "kind": "curve",
+    "radius_m": 800.0,
+    "direction": "left",
+    "superelevation_m": 0.095,
+    "entry_transition_m": 55.0,
+    "exit_transition_m": 55.0,
+    "arc_length_m": 200.0,
+    "start_m": 40.0,
+}
 
 # condition key -> (description, line, excitation list, distance in m)
 PAPER_CONDITIONS: dict[str, tuple[str, dict[str, Any], list[dict[str, Any]], float]] = {
-    "random-straight": ("Rail random irregularity (German high disturbance), straight track",
-                        {"kind": "straight"}, [PAPER_RANDOM], 400.0),
-    "random-curve": ("Rail random irregularity on an R = 800 m curve with 55 m transitions and "
-                     "95 mm superelevation", PAPER_CURVE, [PAPER_RANDOM], 410.0),
-    "corrugation": ("Short-wave excitation: corrugation, 0.5 m wavelength, 1 mm depth, straight",
-                    {"kind": "straight"}, [PAPER_CORRUGATION], 200.0),
-    "settlement": ("Long-wave excitation: settlement, one cosine of 20 m wavelength and 10 cm "
-                   "depth, straight", {"kind": "straight"}, [PAPER_SETTLEMENT], 120.0),
+    "random-straight": (
+        "Rail random irregularity (German high disturbance), straight track",
+        {"kind": "straight"},
+        [PAPER_RANDOM],
+        400.0,
+    ),
+    "random-curve": (
+        "Rail random irregularity on an R = 800 m curve with 55 m transitions and "
+        "95 mm superelevation",
+        PAPER_CURVE,
+        [PAPER_RANDOM],
+        410.0,
+    ),
+    "corrugation": (
+        "Short-wave excitation: corrugation, 0.5 m wavelength, 1 mm depth, straight",
+        {"kind": "straight"},
+        [PAPER_CORRUGATION],
+        200.0,
+    ),
+    "settlement": (
+        "Long-wave excitation: settlement, one cosine of 20 m wavelength and 10 cm depth, straight",
+        {"kind": "straight"},
+        [PAPER_SETTLEMENT],
+        120.0,
+    ),
 }
 
 
@@ -75,7 +119,7 @@ def paper_metro(**top_level: Any) -> dict[str, Any]:
     data: dict[str, Any] = {
         "name": "paper-metro",
         "description": "Metro vehicle (paper Table 4) on slab track with discrete fasteners "
-                       "(paper Table 5); geometry not given by the paper from B-type metro values",
+        "(paper Table 5); geometry not given by the paper from B-type metro values",
         "vehicle": PAPER_VEHICLE,
         "track": PAPER_TRACK,
         "line": {"kind": "straight"},
@@ -103,9 +147,11 @@ def _paper_condition(key: str, speed: int) -> dict[str, Any]:
 def _all_presets() -> dict[str, dict[str, Any]]:
     presets = {"paper-metro": paper_metro()}
     presets["paper-metro-random"] = paper_metro(
-        name="paper-metro-random", excitation=[PAPER_RANDOM],
+        name="paper-metro-random",
+        excitation=[PAPER_RANDOM],
         description="Reference case of the benchmarks: paper vehicle, straight track, German "
-                    "high disturbance, 80 km/h, 10 s")
+        "high disturbance, 80 km/h, 10 s",
+    )
     for key in PAPER_CONDITIONS:
         for speed in PAPER_SPEEDS_KMH:
             p = _paper_condition(key, speed)
@@ -124,9 +170,7 @@ def preset_names() -> list[str]:
 def preset_dict(name: str, overrides: dict[str, Any] | None = None) -> dict[str, Any]:
     """The scenario mapping of preset ``name`` with optional dotted-path overrides."""
     if name not in PRESETS:
-        raise UnknownPresetError(
-            f"unknown preset {name!r}; available: {', '.join(PRESETS)}"
-        )
+        raise UnknownPresetError(f"unknown preset {name!r}; available: {', '.join(PRESETS)}")
     data = PRESETS[name]
     return apply_overrides(data, overrides or {})
 

@@ -15,25 +15,34 @@ class RailSection(Schema):
     shear_modulus: float = Field(8.1e10, gt=1e9, le=2e11, description="Shear modulus G (Pa)")
     density: float = Field(7850.0, gt=1000.0, le=20000.0, description="Density (kg/m³)")
     iy: float = Field(
-        3.214e-5, gt=1e-7, le=1e-3,
+        3.214e-5,
+        gt=1e-7,
+        le=1e-3,
         description="Second moment of area for vertical bending, about the horizontal axis (m⁴)",
     )
     iz: float = Field(
-        5.24e-6, gt=1e-8, le=1e-3,
+        5.24e-6,
+        gt=1e-8,
+        le=1e-3,
         description="Second moment of area for lateral bending, about the vertical axis (m⁴)",
     )
     torsion_constant: float = Field(
         2.35e-6, gt=1e-9, le=1e-3, description="Saint-Venant torsion constant J_t (m⁴)"
     )
     polar_moment: float = Field(
-        3.741e-5, gt=1e-8, le=1e-3,
+        3.741e-5,
+        gt=1e-8,
+        le=1e-3,
         description="Polar second moment of area about the shear centre, I_0 (m⁴)",
     )
     shear_centre_above_foot: float = Field(
         0.045, ge=0.0, le=0.2, description="Height of the shear centre above the rail foot (m)"
     )
     head_above_shear_centre: float = Field(
-        0.131, ge=0.0, le=0.25, description="Height of the running surface above the shear centre (m)"
+        0.131,
+        ge=0.0,
+        le=0.25,
+        description="Height of the running surface above the shear centre (m)",
     )
 
     @property
@@ -51,12 +60,16 @@ class Fastener(Schema):
     ky: float = Field(3.0e7, gt=1e5, le=1e10, description="Lateral stiffness (N/m)")
     cy: float = Field(1.0e4, ge=0.0, le=1e7, description="Lateral damping (N·s/m)")
     k_roll: float = Field(
-        5.6e4, gt=0.0, le=1e9,
+        5.6e4,
+        gt=0.0,
+        le=1e9,
         description="Rotational (rail roll) stiffness of the pad (N·m/rad); default k_z·e²/3 for a "
         "uniform pad of half width e = 0.075 m",
     )
     c_roll: float = Field(
-        19.0, ge=0.0, le=1e6,
+        19.0,
+        ge=0.0,
+        le=1e6,
         description="Rotational (rail roll) damping of the pad (N·m·s/rad); default c_z·e²/3",
     )
 
@@ -67,6 +80,8 @@ class Track(Schema):
     rail: RailSection = Field(default_factory=RailSection)
     fastener: Fastener = Field(default_factory=Fastener)
     rail_centre_half_distance: float = Field(
-        0.75, gt=0.3, le=1.0,
+        0.75,
+        gt=0.3,
+        le=1.0,
         description="Half distance between the rail centre lines, b (m); cant angle = h/(2b)",
     )

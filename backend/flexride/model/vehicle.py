@@ -47,13 +47,22 @@ class VehicleGeometry(Schema):
         0.7465, gt=0.4, le=1.0, description="Half distance between the nominal rolling circles (m)"
     )
     primary_lateral_half_spacing: float = Field(
-        1.0, gt=0.1, le=1.5, description="Lateral distance of each axle-box spring from the centre line (m)"
+        1.0,
+        gt=0.1,
+        le=1.5,
+        description="Lateral distance of each axle-box spring from the centre line (m)",
     )
     primary_height: float = Field(
-        0.50, ge=0.0, le=1.5, description="Height of the primary springs' acting point above TOR (m)"
+        0.50,
+        ge=0.0,
+        le=1.5,
+        description="Height of the primary springs' acting point above TOR (m)",
     )
     secondary_lateral_half_spacing: float = Field(
-        0.95, gt=0.1, le=1.6, description="Lateral distance of each air spring from the centre line (m)"
+        0.95,
+        gt=0.1,
+        le=1.6,
+        description="Lateral distance of each air spring from the centre line (m)",
     )
     secondary_height: float = Field(
         0.90, ge=0.0, le=2.0, description="Height of the air springs' acting point above TOR (m)"
@@ -64,22 +73,31 @@ class OptionalSuspension(Schema):
     """Optional suspension elements. A zero value means the element is absent."""
 
     anti_roll_bar_stiffness: float = Field(
-        0.0, ge=0.0, le=1.0e8,
+        0.0,
+        ge=0.0,
+        le=1.0e8,
         description="Anti-roll bar roll stiffness between car body and each bogie frame (N·m/rad)",
     )
     secondary_lateral_damper: float = Field(
-        0.0, ge=0.0, le=1.0e6,
+        0.0,
+        ge=0.0,
+        le=1.0e6,
         description="Secondary lateral damper between car body and each bogie frame (N·s/m)",
     )
     secondary_lateral_damper_height: float = Field(
         0.75, ge=0.0, le=2.0, description="Height of the secondary lateral damper above TOR (m)"
     )
     yaw_damper: float = Field(
-        0.0, ge=0.0, le=1.0e7,
+        0.0,
+        ge=0.0,
+        le=1.0e7,
         description="Longitudinal yaw damper per side between car body and each frame (N·s/m)",
     )
     yaw_damper_lateral_half_spacing: float = Field(
-        1.3, gt=0.1, le=1.6, description="Lateral distance of each yaw damper from the centre line (m)"
+        1.3,
+        gt=0.1,
+        le=1.6,
+        description="Lateral distance of each yaw damper from the centre line (m)",
     )
 
 

@@ -13,11 +13,11 @@ from flexride.contact.geometry import ContactTable, conical_table
 from flexride.contact.hertz import hertz_constant
 from flexride.model.excitation import RandomIrregularity
 from flexride.model.scenario import Scenario
+from flexride.solver import system as S
 from flexride.track.irregularities import IrregularityProfile, build_profile
 from flexride.track.line_geometry import GRAVITY, LineTable, build_line_table
 from flexride.track.rail import RailModel, build_rail_model
 from flexride.vehicle.topology import VehicleModel, build_vehicle
-from flexride.solver import system as S
 
 RIGID_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
 RAIL_DIRS = ("vertical", "lateral", "torsion")
@@ -28,6 +28,9 @@ RANDOM_FADE_IN_M = 20.0
 #: Speed below which creepages are referred to this value instead (m/s): keeps creep forces
 #: finite at standstill (they saturate anyway).
 CREEP_MIN_SPEED = 0.5
+#: Natural frequency of the soft longitudinal link that keeps the running speed (Hz): far below
+#: every suspension mode, so it only removes the drift from rolling resistance.
+TRACTION_LINK_HZ = 0.05
 
 
 @dataclass
@@ -76,8 +79,14 @@ def _irregularity(scenario: Scenario, length: float) -> IrregularityProfile:
             s = prof.s
             w = np.clip(s / RANDOM_FADE_IN_M, 0.0, 1.0)
             w = 0.5 - 0.5 * np.cos(np.pi * w)
-            prof = IrregularityProfile(prof.s0, prof.ds, prof.z_left * w, prof.z_right * w,
-                                       prof.y_left * w, prof.y_right * w)
+            prof = IrregularityProfile(
+                prof.s0,
+                prof.ds,
+                prof.z_left * w,
+                prof.z_right * w,
+                prof.y_left * w,
+                prof.y_right * w,
+            )
         total = prof if total is None else total + prof
     if total is None:
         total = IrregularityProfile.zeros(length, 1.0)
@@ -105,7 +114,7 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     ws_x = np.array([bodies[i].x_ref for i in veh.wheelsets])
     span = float(ws_x.max() - ws_x.min())
     fas = scenario.track.fastener
-    nshift = max(1, int(round(sol.rail_shift_m / fas.spacing)))
+    nshift = max(1, round(sol.rail_shift_m / fas.spacing))
     rail = build_rail_model(scenario.track, span, sol.rail_margin_m, nshift * fas.spacing)
     nm = rail.n_modes
     n = n_veh + 6 * nm
@@ -115,14 +124,14 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     kdiag = np.zeros(n_veh)
     cdiag = np.zeros(n_veh)
     for b, o in zip(bodies, off, strict=True):
-        minv[o:o + b.n_dof] = 1.0 / b.mass_diagonal()
-        kdiag[o:o + b.n_dof] = b.modal_stiffness()
-        cdiag[o:o + b.n_dof] = b.modal_damping()
+        minv[o : o + b.n_dof] = 1.0 / b.mass_diagonal()
+        kdiag[o : o + b.n_dof] = b.modal_stiffness()
+        cdiag[o : o + b.n_dof] = b.modal_damping()
     for r in range(2):
         o = n_veh + 3 * r * nm
-        minv[o:o + nm] = 1.0 / rail.mass
-        minv[o + nm:o + 2 * nm] = 1.0 / rail.mass
-        minv[o + 2 * nm:o + 3 * nm] = 1.0 / rail.roll_inertia
+        minv[o : o + nm] = 1.0 / rail.mass
+        minv[o + nm : o + 2 * nm] = 1.0 / rail.mass
+        minv[o + 2 * nm : o + 3 * nm] = 1.0 / rail.roll_inertia
 
     # marker matrices, flat
     phi_chunks: list[np.ndarray] = []
@@ -163,9 +172,16 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     c = scenario.contact
     r0 = veh.wheel_radius
     b0 = veh.rolling_circle_half_distance
-    table = conical_table(r0=r0, conicity=c.conicity, b0=b0, flange_clearance=c.flange_clearance,
-                          flange_stiffness=c.flange_stiffness, rail_head_radius=c.rail_head_radius,
-                          E=scenario.track.rail.youngs_modulus, nu=c.poisson)
+    table = conical_table(
+        r0=r0,
+        conicity=c.conicity,
+        b0=b0,
+        flange_clearance=c.flange_clearance,
+        flange_stiffness=c.flange_stiffness,
+        rail_head_radius=c.rail_head_radius,
+        E=scenario.track.rail.youngs_modulus,
+        nu=c.poisson,
+    )
     tparams, tdata = table.as_arrays()
     ct = np.ascontiguousarray(tdata.transpose(1, 0, 2))
 
@@ -179,9 +195,9 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     line = build_line_table(scenario.line, x_lo - 5.0, dist + x_hi + 5.0, b_rail)
     irr = _irregularity(scenario, dist + x_hi + 5.0)
 
-    n_steps = int(round(duration / sol.dt))
+    n_steps = round(duration / sol.dt)
     rate = output_rate_for(scenario)
-    ndec = int(round(1.0 / (sol.dt * rate)))
+    ndec = round(1.0 / (sol.dt * rate))
 
     # channels
     names: list[str] = []
@@ -196,14 +212,24 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     for w, bi in enumerate(veh.wheelsets):
         wname = bodies[bi].name
         for sd, side in enumerate(SIDES):
-            for kind, q, u in ((S.CH_WHEEL_FZ, "force.z", "N"), (S.CH_WHEEL_FY, "force.y", "N"),
-                               (S.CH_WHEEL_N, "force.n", "N"), (S.CH_RAIL_Z, "rail_disp.z", "m"),
-                               (S.CH_RAIL_Y, "rail_disp.y", "m")):
+            for kind, q, u in (
+                (S.CH_WHEEL_FZ, "force.z", "N"),
+                (S.CH_WHEEL_FY, "force.y", "N"),
+                (S.CH_WHEEL_N, "force.n", "N"),
+                (S.CH_RAIL_Z, "rail_disp.z", "m"),
+                (S.CH_RAIL_Y, "rail_disp.y", "m"),
+            ):
                 names.append(f"{wname}.{side}.{q}")
                 units.append(u)
                 kinds.append((kind, w, sd))
-    coord_channels = [("disp.x", 0, "m"), ("disp.y", 1, "m"), ("disp.z", 2, "m"),
-                      ("rot.x", 3, "rad"), ("rot.y", 4, "rad"), ("rot.z", 5, "rad")]
+    coord_channels = [
+        ("disp.x", 0, "m"),
+        ("disp.y", 1, "m"),
+        ("disp.z", 2, "m"),
+        ("rot.x", 3, "rad"),
+        ("rot.y", 4, "rad"),
+        ("rot.z", 5, "rad"),
+    ]
     for bi, body in enumerate(bodies):
         for q, j, u in coord_channels:
             if body.is_wheelset and j == 4:
@@ -263,6 +289,10 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     fpar[S.F_LN_DS] = line.ds
     fpar[S.F_S_START] = 0.0
     fpar[S.F_MARGIN] = sol.rail_margin_m
+    # traction link: 0.05 Hz, critically damped, on the whole vehicle mass
+    w_tr = 2.0 * np.pi * TRACTION_LINK_HZ
+    fpar[S.F_K_TRACTION] = veh.total_mass * w_tr**2
+    fpar[S.F_C_TRACTION] = 2.0 * veh.total_mass * w_tr
 
     ipar = np.zeros(S.N_IPAR, dtype=np.int64)
     ipar[S.I_NVEH] = n_veh
@@ -276,27 +306,52 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     ipar[S.I_NCH] = len(names)
 
     sysarr = S.SystemArrays(
-        fpar=fpar, ipar=ipar, minv=minv, kdiag=kdiag, cdiag=cdiag,
-        body_off=off, body_ndof=ndof,
+        fpar=fpar,
+        ipar=ipar,
+        minv=minv,
+        kdiag=kdiag,
+        cdiag=cdiag,
+        body_off=off,
+        body_ndof=ndof,
         body_x=np.array([b.x_ref for b in bodies]),
         body_h=np.array([b.cg_height for b in bodies]),
         body_mass=np.array([b.mass for b in bodies]),
         body_inertia=np.ascontiguousarray(np.array([b.inertia for b in bodies], dtype=float)),
         body_ws=np.array([1 if b.is_wheelset else 0 for b in bodies], dtype=np.int64),
-        phi=phi, el_a=el_a, el_b=el_b, el_phia=el_pa, el_phib=el_pb_off,
-        el_k=el_k, el_c=el_c, el_pb=el_pb,
+        phi=phi,
+        el_a=el_a,
+        el_b=el_b,
+        el_phia=el_pa,
+        el_phib=el_pb_off,
+        el_k=el_k,
+        el_c=el_c,
+        el_pb=el_pb,
         ws_body=np.array(veh.wheelsets, dtype=np.int64),
-        rail_kz=rail.vertical_stiffness(), rail_kyb=rail.lateral_bending_stiffness(),
-        rail_ktb=rail.torsional_stiffness(), rail_kap=rail.wavenumbers(),
+        rail_kz=rail.vertical_stiffness(),
+        rail_kyb=rail.lateral_bending_stiffness(),
+        rail_ktb=rail.torsional_stiffness(),
+        rail_kap=rail.wavenumbers(),
         rail_dst=np.ascontiguousarray(rail.sine_matrix()),
         ct=ct,
         irr=np.ascontiguousarray(np.vstack([irr.z_left, irr.z_right, irr.y_left, irr.y_right])),
         line=line.as_array(),
-        pt_body=pt_body, pt_phi=pt_phi,
-        ch_kind=np.ascontiguousarray(ch[:, 0]), ch_a=np.ascontiguousarray(ch[:, 1]),
+        pt_body=pt_body,
+        pt_phi=pt_phi,
+        ch_kind=np.ascontiguousarray(ch[:, 0]),
+        ch_a=np.ascontiguousarray(ch[:, 1]),
         ch_b=np.ascontiguousarray(ch[:, 2]),
     )
-    return Assembly(sys=sysarr, vehicle=veh, rail=rail, contact=table, line=line,
-                    irregularity=irr, dof_names=dof_names, channel_names=names,
-                    channel_units=units, n_steps=n_steps, output_rate=rate,
-                    static_dofs=np.array(static, dtype=np.int64))
+    return Assembly(
+        sys=sysarr,
+        vehicle=veh,
+        rail=rail,
+        contact=table,
+        line=line,
+        irregularity=irr,
+        dof_names=dof_names,
+        channel_names=names,
+        channel_units=units,
+        n_steps=n_steps,
+        output_rate=rate,
+        static_dofs=np.array(static, dtype=np.int64),
+    )

@@ -35,6 +35,7 @@ from flexride.solver.system import (
     CT_R,
     CT_YC,
     F_B0,
+    F_C_TRACTION,
     F_CR_D,
     F_CT_DY,
     F_CT_Y0,
@@ -49,6 +50,7 @@ from flexride.solver.system import (
     F_HERTZ_G,
     F_IRR_DS,
     F_IRR_S0,
+    F_K_TRACTION,
     F_KR_D,
     F_KY_D,
     F_LN_DS,
@@ -138,7 +140,7 @@ def vehicle_forces(sys, X, V, s, F):
         o = sys.body_off[b]
         nd = sys.body_ndof[b]
         sb = s + sys.body_x[b]
-        f_y, f_z, kap, roll, dk = frame_specific_force(sys, sb)
+        f_y, f_z, kap, _roll, dk = frame_specific_force(sys, sb)
         m = sys.body_mass[b]
         F[o + 1] -= m * f_y
         F[o + 2] -= m * f_z
@@ -150,6 +152,11 @@ def vehicle_forces(sys, X, V, s, F):
             h = sys.body_inertia[b, 1] * speed / fp[F_R0]
             F[o + 3] += h * (V[o + 5] + speed * kap)
             F[o + 5] -= h * V[o + 3]
+    # speed control: a soft longitudinal link of the car body to the moving frame stands for the
+    # traction that keeps the running speed against rolling resistance (no drift)
+    F[sys.body_off[0]] -= (
+        fp[F_K_TRACTION] * X[sys.body_off[0]] + fp[F_C_TRACTION] * V[sys.body_off[0]]
+    )
     # suspension elements
     ne = ip[I_NELEM]
     for e in range(ne):
@@ -176,10 +183,12 @@ def vehicle_forces(sys, X, V, s, F):
         # rates along the line (d/ds), times speed below
         ddyh = dh - ka * L
         ddh = kb - ka
-        ddphi = (table_value(ln[LN_ROLL], ls0, lds, sbp + 0.5 * lds)
-                 - table_value(ln[LN_ROLL], ls0, lds, sbp - 0.5 * lds)
-                 - table_value(ln[LN_ROLL], ls0, lds, sa + 0.5 * lds)
-                 + table_value(ln[LN_ROLL], ls0, lds, sa - 0.5 * lds)) / lds
+        ddphi = (
+            table_value(ln[LN_ROLL], ls0, lds, sbp + 0.5 * lds)
+            - table_value(ln[LN_ROLL], ls0, lds, sbp - 0.5 * lds)
+            - table_value(ln[LN_ROLL], ls0, lds, sa + 0.5 * lds)
+            + table_value(ln[LN_ROLL], ls0, lds, sa - 0.5 * lds)
+        ) / lds
         cra, sra = math.cos(ra), math.sin(ra)
         xb, yb, zb = sys.el_pb[e, 0], sys.el_pb[e, 1], sys.el_pb[e, 2]
         g0 = -dh * yb
@@ -255,10 +264,14 @@ def rail_forces(sys, X, V, F):
 
 
 @numba.njit(cache=True, fastmath=_FM)
-def contact_forces(sys, X, V, s, s_win0, F, aux, sn):
+def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
     """Wheel–rail forces of every wheel, on the wheelsets and projected on the rail modes.
 
     ``sn`` is scratch of length n_modes; ``aux[w, side, :]`` receives per-wheel values.
+    ``cst[w, side, 0:3]`` holds the creep forces (Fx, Fy, Mz). With ``relax_dt`` > 0 they relax
+    toward the steady Kalker/SHE values over the relaxation length a (contact semi-axis in the
+    rolling direction), time constant τ = a/V, integrated exactly over ``relax_dt`` (transient
+    rolling contact); with ``relax_dt`` = 0 the steady values are used (statics, Jacobians).
     """
     fp = sys.fpar
     ip = sys.ipar
@@ -282,16 +295,21 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn):
         o = sys.body_off[b]
         sw = s + sys.body_x[b]
         xw = sw - s_win0
-        # sines of all modes at the wheel (Chebyshev recurrence)
-        th = sys.rail_kap[0] * xw
-        c2 = 2.0 * math.cos(th)
-        s_prev = 0.0
-        s_cur = math.sin(th)
-        for k in range(nm):
-            sn[k] = s_cur
-            s_next = c2 * s_cur - s_prev
-            s_prev = s_cur
-            s_cur = s_next
+        # sines of all modes at the wheel (Chebyshev recurrence); a wheel outside the window
+        # (never in a run, only in tests) rolls on rigid rail
+        if xw <= 0.0 or xw >= fp[F_WIN_LEN]:
+            for k in range(nm):
+                sn[k] = 0.0
+        else:
+            th = sys.rail_kap[0] * xw
+            c2 = 2.0 * math.cos(th)
+            s_prev = 0.0
+            s_cur = math.sin(th)
+            for k in range(nm):
+                sn[k] = s_cur
+                s_next = c2 * s_cur - s_prev
+                s_prev = s_cur
+                s_cur = s_next
         xw_ = X[o + 0]
         yw, zw, rw, psw = X[o + 1], X[o + 2], X[o + 3], X[o + 5]
         vxw, vyw, vrw, vbw, vpsw = V[o + 0], V[o + 1], V[o + 3], V[o + 4], V[o + 5]
@@ -327,19 +345,34 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn):
             fx = 0.0
             fy = 0.0
             mz = 0.0
+            tau = 0.0
             if N > 0.0:
                 xi_x = (speed * (1.0 - r_c / r0) + vxw - sg * b0 * vpsw - r_c * vbw) / vref
                 xi_y = (vyw + r_c * vrw - vy_head) / vref - psw
                 xi_sp = vpsw / vref - sg * math.sin(gam) / r0
                 fx, fy, mz = creep_forces(
-                    xi_x, xi_y, xi_sp, N,
+                    xi_x,
+                    xi_y,
+                    xi_sp,
+                    N,
                     table_value(ct[side, CT_CA], y0, dy, dyrel),
                     table_value(ct[side, CT_CB], y0, dy, dyrel),
                     table_value(ct[side, CT_C11], y0, dy, dyrel),
                     table_value(ct[side, CT_C22], y0, dy, dyrel),
                     table_value(ct[side, CT_C23], y0, dy, dyrel),
                     table_value(ct[side, CT_C33], y0, dy, dyrel),
-                    gsh, mu)
+                    gsh,
+                    mu,
+                )
+                tau = table_value(ct[side, CT_CA], y0, dy, dyrel) * N ** (1.0 / 3.0) / vref
+            if relax_dt > 0.0 and N > 0.0:
+                e = math.exp(-relax_dt / tau)
+                fx = fx + (cst[w, side, 0] - fx) * e
+                fy = fy + (cst[w, side, 1] - fy) * e
+                mz = mz + (cst[w, side, 2] - mz) * e
+            cst[w, side, 0] = fx
+            cst[w, side, 1] = fy
+            cst[w, side, 2] = mz
             ge = gam + sg * rw
             cg, sgm = math.cos(ge), math.sin(ge)
             # force on the wheel in the track frame (normal n, lateral tangent t)
@@ -385,15 +418,17 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn):
 
 
 @numba.njit(cache=True, fastmath=_FM)
-def evaluate(sys, X, V, s, s_win0, F, A, aux, sn):
+def evaluate(sys, X, V, s, s_win0, F, A, aux, sn, cst, relax_dt):
     """Generalised forces ``F`` and accelerations ``A = F / m`` at coordinates ``X``,
-    velocities ``V``, vehicle-centre position ``s`` (m) and rail-window start ``s_win0`` (m)."""
+    velocities ``V``, vehicle-centre position ``s`` (m) and rail-window start ``s_win0`` (m).
+
+    ``cst``/``relax_dt``: creep-force state and relaxation step, see :func:`contact_forces`."""
     n = F.shape[0]
     for i in range(n):
         F[i] = 0.0
     vehicle_forces(sys, X, V, s, F)
     rail_forces(sys, X, V, F)
-    contact_forces(sys, X, V, s, s_win0, F, aux, sn)
+    contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt)
     minv = sys.minv
     for i in range(n):
         A[i] = F[i] * minv[i]

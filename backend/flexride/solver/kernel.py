@@ -60,6 +60,25 @@ _FM = set(FASTMATH)
 STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY, STATUS_FULL = 0, 1, 2, 3
 
 
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def zhai_update(X, V, A, Ap, dt, psi, phi):
+    """One step of Zhai's explicit method for all coordinates; ``Ap`` becomes ``A``.
+
+    X ← X + V·Δt + (½ + ψ)·A·Δt² − ψ·A_prev·Δt²;  V ← V + (1 + φ)·A·Δt − φ·A_prev·Δt.
+    """
+    dt2 = dt * dt
+    c1 = (0.5 + psi) * dt2
+    c2 = psi * dt2
+    c3 = (1.0 + phi) * dt
+    c4 = phi * dt
+    for i in range(X.shape[0]):
+        a = A[i]
+        ap = Ap[i]
+        X[i] += V[i] * dt + c1 * a - c2 * ap
+        V[i] += c3 * a - c4 * ap
+        Ap[i] = a
+
+
 @numba.njit(cache=True, fastmath=_FM)
 def shift_window(sys, X, V, Ap, nshift, u, q):
     """Move the rail window forward by ``nshift`` fastener bays.
@@ -176,8 +195,29 @@ def _check(sys, X, X0, info):
 
 
 @numba.njit(cache=True, fastmath=_FM)
-def run_chunk(sys, X, V, A, Ap, F, aux, sn, facc, ptv, pscr, X0, u, q, tstate, n_steps,
-              rec, rec_t, rec_s, info):
+def run_chunk(
+    sys,
+    X,
+    V,
+    A,
+    Ap,
+    F,
+    aux,
+    sn,
+    cst,
+    facc,
+    ptv,
+    pscr,
+    X0,
+    u,
+    q,
+    tstate,
+    n_steps,
+    rec,
+    rec_t,
+    rec_s,
+    info,
+):
     """Advance the system by up to ``n_steps`` steps of Zhai's method.
 
     Returns a status code (STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY or STATUS_FULL when the
@@ -187,7 +227,6 @@ def run_chunk(sys, X, V, A, Ap, F, aux, sn, facc, ptv, pscr, X0, u, q, tstate, n
     ip = sys.ipar
     dt = fp[F_DT]
     speed = fp[F_SPEED]
-    n = X.shape[0]
     ndec = ip[I_NDEC]
     nw = ip[I_NWS]
     spacing = fp[F_SPACING]
@@ -199,7 +238,6 @@ def run_chunk(sys, X, V, A, Ap, F, aux, sn, facc, ptv, pscr, X0, u, q, tstate, n
         if xb > x_front:
             x_front = xb
     nshift = ip[I_SHIFT_BAYS]
-    dt2 = dt * dt
     for _ in range(n_steps):
         if tstate[T_FIRST] == 0.0:
             psi = 0.0
@@ -208,16 +246,7 @@ def run_chunk(sys, X, V, A, Ap, F, aux, sn, facc, ptv, pscr, X0, u, q, tstate, n
         else:
             psi = fp[F_PSI]
             ph = fp[F_PHI]
-        c1 = (0.5 + psi) * dt2
-        c2 = psi * dt2
-        c3 = (1.0 + ph) * dt
-        c4 = ph * dt
-        for i in range(n):
-            a = A[i]
-            ap = Ap[i]
-            X[i] += V[i] * dt + c1 * a - c2 * ap
-            V[i] += c3 * a - c4 * ap
-            Ap[i] = a
+        zhai_update(X, V, A, Ap, dt, psi, ph)
         t = tstate[T_TIME] + dt
         tstate[T_TIME] = t
         s = fp[F_S_START] + speed * t
@@ -225,7 +254,7 @@ def run_chunk(sys, X, V, A, Ap, F, aux, sn, facc, ptv, pscr, X0, u, q, tstate, n
         if s + x_front - tstate[T_WIN_S0] > win_len - margin:
             shift_window(sys, X, V, Ap, nshift, u, q)
             tstate[T_WIN_S0] += nshift * spacing
-        evaluate(sys, X, V, s, tstate[T_WIN_S0], F, A, aux, sn)
+        evaluate(sys, X, V, s, tstate[T_WIN_S0], F, A, aux, sn, cst, dt)
         for w in range(nw):
             for sd in range(2):
                 facc[w, sd, 0] += aux[w, sd, AUX_FZ]

@@ -32,15 +32,17 @@ def _static_wheel_loads(asm: Assembly, X0: np.ndarray, s_win0: float) -> list[li
     from flexride.solver.forces import evaluate
     from flexride.solver.linearise import workspace
 
-    F, A, aux, sn = workspace(asm.sys)
-    evaluate(asm.sys, X0.copy(), np.zeros_like(X0), 0.0, s_win0, F, A, aux, sn)
-    return [[float(aux[w, 0, S.AUX_FZ]), float(aux[w, 1, S.AUX_FZ])]
-            for w in range(aux.shape[0])]
+    F, A, aux, sn, cst = workspace(asm.sys)
+    evaluate(asm.sys, X0.copy(), np.zeros_like(X0), 0.0, s_win0, F, A, aux, sn, cst, 0.0)
+    return [[float(aux[w, 0, S.AUX_FZ]), float(aux[w, 1, S.AUX_FZ])] for w in range(aux.shape[0])]
 
 
-def simulate(scenario: Scenario, progress: ProgressCallback | None = None,
-             cancel: CancelCallback | None = None,
-             vehicle: VehicleModel | None = None) -> Results:
+def simulate(
+    scenario: Scenario,
+    progress: ProgressCallback | None = None,
+    cancel: CancelCallback | None = None,
+    vehicle: VehicleModel | None = None,
+) -> Results:
     """Simulate the vehicle running over the track of ``scenario``.
 
     Parameters
@@ -74,7 +76,6 @@ def simulate(scenario: Scenario, progress: ProgressCallback | None = None,
     report = progress or (lambda f, m: None)
     report(0.0, "assembling")
     asm = assemble(scenario, vehicle=vehicle)
-    sysarr = asm.sys
     s_win0 = initial_window_start(asm, 0.0)
     report(0.0, "static equilibrium")
     X0 = static_equilibrium(asm, 0.0, s_win0)
@@ -84,9 +85,54 @@ def simulate(scenario: Scenario, progress: ProgressCallback | None = None,
         stab = check_stability(asm, X0, 0.0, s_win0)
     t_ready = time.perf_counter()
 
+    V0 = convected_rail_velocity(asm, X0)
+    return integrate(asm, X0, V0, scenario, report, cancel, stab, t_start, t_ready)
+
+
+def convected_rail_velocity(asm: Assembly, X0: np.ndarray) -> np.ndarray:
+    """Initial velocities for a vehicle already moving at the running speed: the static
+    deflection basin of each rail travels with the wheels, w(x − Vt), so ẇ = −V·∂w/∂x.
+
+    Projected on the rail modes through the fastener values (discrete sine transform)."""
+    sysarr = asm.sys
+    V0 = np.zeros_like(X0)
+    nv = int(sysarr.ipar[S.I_NVEH])
+    nm = int(sysarr.ipar[S.I_NRAIL_MODES])
+    kap = sysarr.rail_kap
+    xj = np.arange(1, nm + 1) * asm.rail.spacing
+    cosm = np.cos(np.outer(xj, kap))
+    speed = float(sysarr.fpar[S.F_SPEED])
+    for blk in range(6):
+        o = nv + blk * nm
+        slope = cosm @ (kap * X0[o : o + nm])
+        V0[o : o + nm] = (2.0 / (nm + 1)) * (sysarr.rail_dst.T @ (-speed * slope))
+    return V0
+
+
+def integrate(
+    asm: Assembly,
+    X0: np.ndarray,
+    V0: np.ndarray,
+    scenario: Scenario,
+    report: ProgressCallback,
+    cancel: CancelCallback | None = None,
+    stab: dict | None = None,
+    t_start: float | None = None,
+    t_ready: float | None = None,
+    X_ref: np.ndarray | None = None,
+) -> Results:
+    """Integrate from the state (X0, V0) at t = 0 and collect the results.
+
+    ``X_ref`` (default ``X0``) is the reference for displacement channels and runaway checks.
+    """
+    t_start = time.perf_counter() if t_start is None else t_start
+    t_ready = time.perf_counter() if t_ready is None else t_ready
+    sysarr = asm.sys
+    s_win0 = initial_window_start(asm, 0.0)
+    X_ref = X0.copy() if X_ref is None else X_ref
     n = X0.shape[0]
     X = X0.copy()
-    V = np.zeros(n)
+    V = V0.copy()
     F = np.zeros(n)
     A = np.zeros(n)
     Ap = np.zeros(n)
@@ -96,6 +142,7 @@ def simulate(scenario: Scenario, progress: ProgressCallback | None = None,
     aux = np.zeros((nw, 2, S.N_AUX))
     sn = np.zeros(nm)
     facc = np.zeros((nw, 2, 3))
+    cst = np.zeros((nw, 2, 3))
     ptv = np.zeros((npnt, 2))
     pscr = np.zeros((npnt, 2))
     u = np.zeros(nm)
@@ -112,22 +159,49 @@ def simulate(scenario: Scenario, progress: ProgressCallback | None = None,
 
     from flexride.solver.forces import evaluate
 
-    evaluate(sysarr, X, V, 0.0, s_win0, F, A, aux, sn)
+    evaluate(sysarr, X, V, 0.0, s_win0, F, A, aux, sn, cst, 0.0)
     chunk = int(scenario.solver.progress_every_steps)
     done = 0
     t_loop = time.perf_counter()
     while done < asm.n_steps:
         steps = min(chunk, asm.n_steps - done)
-        status = run_chunk(sysarr, X, V, A, Ap, F, aux, sn, facc, ptv, pscr, X0, u, q, tstate,
-                           steps, rec, rec_t, rec_s, info)
+        status = run_chunk(
+            sysarr,
+            X,
+            V,
+            A,
+            Ap,
+            F,
+            aux,
+            sn,
+            cst,
+            facc,
+            ptv,
+            pscr,
+            X_ref,
+            u,
+            q,
+            tstate,
+            steps,
+            rec,
+            rec_t,
+            rec_s,
+            info,
+        )
         done = int(tstate[S.T_STEP])
         if status in (STATUS_NONFINITE, STATUS_RUNAWAY):
             what = asm.dof_names[int(info[0])]
-            kind = "became NaN or infinite" if status == STATUS_NONFINITE else (
-                f"exceeded {scenario.solver.runaway_displacement_m:g} m from static equilibrium")
+            kind = (
+                "became NaN or infinite"
+                if status == STATUS_NONFINITE
+                else (
+                    f"exceeded {scenario.solver.runaway_displacement_m:g} m from static equilibrium"
+                )
+            )
             raise SimulationError(
                 f"the run diverged at t = {tstate[S.T_TIME]:.4f} s: coordinate {what} {kind}; "
-                f"try a smaller solver.dt or check the parameters")
+                f"try a smaller solver.dt or check the parameters"
+            )
         if status not in (STATUS_OK, STATUS_FULL):
             raise SimulationError(f"kernel returned unknown status {status}")
         frac = done / asm.n_steps
@@ -138,8 +212,7 @@ def simulate(scenario: Scenario, progress: ProgressCallback | None = None,
             break
     t_end = time.perf_counter()
     k = int(tstate[S.T_NREC])
-    channels = {name: np.ascontiguousarray(rec[:k, i])
-                for i, name in enumerate(asm.channel_names)}
+    channels = {name: np.ascontiguousarray(rec[:k, i]) for i, name in enumerate(asm.channel_names)}
     units = dict(zip(asm.channel_names, asm.channel_units, strict=True))
     meta = {
         "speed_mps": scenario.speed_mps,
@@ -150,12 +223,18 @@ def simulate(scenario: Scenario, progress: ProgressCallback | None = None,
         "n_dof": int(n),
         "rail_modes_per_direction": int(nm),
         "rail_window_m": float(asm.rail.length),
-        "static_wheel_loads": _static_wheel_loads(asm, X0, s_win0),
+        "static_wheel_loads": _static_wheel_loads(asm, X_ref, s_win0),
         "stability": stab,
         "wall_time_setup_s": t_ready - t_start,
         "wall_time_solve_s": t_end - t_loop,
         "output_points": [p[0] for p in asm.vehicle.points if p[1] == 0],
     }
     report(1.0, "done")
-    return Results(time=rec_t[:k].copy(), distance=rec_s[:k].copy(), channels=channels,
-                   units=units, scenario=scenario.model_dump(mode="json"), meta=meta)
+    return Results(
+        time=rec_t[:k].copy(),
+        distance=rec_s[:k].copy(),
+        channels=channels,
+        units=units,
+        scenario=scenario.model_dump(mode="json"),
+        meta=meta,
+    )

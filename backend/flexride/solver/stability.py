@@ -16,17 +16,29 @@ import numpy as np
 from flexride.errors import StabilityError
 from flexride.solver.assemble import Assembly
 from flexride.solver.linearise import jacobian
-from flexride.solver.system import F_DT, F_PHI, F_PSI
+from flexride.solver.system import (
+    CT_CA,
+    F_CT_Y0,
+    F_DT,
+    F_GRAVITY,
+    F_MU,
+    F_PHI,
+    F_PSI,
+    F_SPEED,
+    F_VMIN,
+)
 
 #: The requested step must stay below this fraction of the estimated limit.
 SAFETY = 0.9
 
 
-def amplification_matrix(omega: np.ndarray, c: np.ndarray, dt: np.ndarray | float,
-                         psi: float = 0.5, phi: float = 0.5) -> np.ndarray:
+def amplification_matrix(
+    omega: np.ndarray, c: np.ndarray, dt: np.ndarray | float, psi: float = 0.5, phi: float = 0.5
+) -> np.ndarray:
     """Zhai's one-step map of (x, v, a_prev) for ẍ = −ω²x − c·ẋ, shape (..., 3, 3)."""
-    omega, c, dt = np.broadcast_arrays(np.asarray(omega, float), np.asarray(c, float),
-                                       np.asarray(dt, float))
+    omega, c, dt = np.broadcast_arrays(
+        np.asarray(omega, float), np.asarray(c, float), np.asarray(dt, float)
+    )
     w2 = omega**2
     m = np.zeros((*omega.shape, 3, 3))
     m[..., 0, 0] = 1.0 - (0.5 + psi) * dt**2 * w2
@@ -45,8 +57,9 @@ def spectral_radius(omega, c, dt, psi: float = 0.5, phi: float = 0.5) -> np.ndar
     return np.abs(np.linalg.eigvals(amplification_matrix(omega, c, dt, psi, phi))).max(axis=-1)
 
 
-def critical_step(omega: np.ndarray, c: np.ndarray, psi: float = 0.5, phi: float = 0.5,
-                  tol: float = 1e-6) -> np.ndarray:
+def critical_step(
+    omega: np.ndarray, c: np.ndarray, psi: float = 0.5, phi: float = 0.5, tol: float = 1e-6
+) -> np.ndarray:
     """Largest stable step (s) per mode (ω in rad/s, c in 1/s), by bisection."""
     omega = np.atleast_1d(np.asarray(omega, float))
     c = np.atleast_1d(np.asarray(c, float))
@@ -61,6 +74,16 @@ def critical_step(omega: np.ndarray, c: np.ndarray, psi: float = 0.5, phi: float
         if np.all(hi - lo <= tol * hi):
             break
     return lo
+
+
+def creep_relaxation_time(asm: Assembly) -> float:
+    """Relaxation time of the creep forces at the static wheel load, τ = a/V (s)."""
+    sys = asm.sys
+    n_wheels = 2 * len(asm.vehicle.wheelsets)
+    load = asm.vehicle.total_mass * sys.fpar[F_GRAVITY] / n_wheels
+    i0 = round(-sys.fpar[F_CT_Y0] / (asm.contact.dy))
+    a = sys.ct[0, CT_CA, i0] * load ** (1.0 / 3.0)
+    return float(a / max(sys.fpar[F_SPEED], sys.fpar[F_VMIN]))
 
 
 def _nice_step(dt: float) -> float:
@@ -85,8 +108,17 @@ def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> d
     n = X0.shape[0]
     V0 = np.zeros(n)
     cols = np.arange(n)
-    K = -jacobian(sys, X0, V0, s, s_win0, cols)            # = M⁻¹K
+    K = -jacobian(sys, X0, V0, s, s_win0, cols)  # = M⁻¹K
     C = -jacobian(sys, X0, V0, s, s_win0, cols, wrt_velocity=True)  # = M⁻¹C
+    # creep forces relax over τ = a/V (transient rolling contact): the creep "damper" c acts in
+    # series with the contact's tangential stiffness c/τ. Take the creep part of C (difference
+    # to a run without friction) into the stiffness.
+    fp0 = sys.fpar.copy()
+    fp0[F_MU] = 0.0
+    C0 = -jacobian(sys._replace(fpar=fp0), X0, V0, s, s_win0, cols, wrt_velocity=True)
+    tau = creep_relaxation_time(asm)
+    K = K + (C - C0) / tau
+    C = C0
     sq = np.sqrt(1.0 / sys.minv)
     isq = 1.0 / sq
     Ks = sq[:, None] * K * isq[None, :]
@@ -101,9 +133,13 @@ def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> d
     j = int(np.argmin(dts))
     dt_max = float(dts[j]) * SAFETY
     dof = asm.dof_names[int(np.argmax(np.abs(vec[:, j])))]
-    return {"dt_max": dt_max, "omega_max": float(omega.max()), "critical_dof": dof,
-            "critical_frequency_hz": float(omega[j] / (2 * np.pi)),
-            "dt_suggested": _nice_step(0.8 * dt_max)}
+    return {
+        "dt_max": dt_max,
+        "omega_max": float(omega.max()),
+        "critical_dof": dof,
+        "critical_frequency_hz": float(omega[j] / (2 * np.pi)),
+        "dt_suggested": _nice_step(0.8 * dt_max),
+    }
 
 
 def check_stability(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> dict:
@@ -116,5 +152,8 @@ def check_stability(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> d
             f"method for this system (estimated {info['dt_max']:.3g} s, set by a "
             f"{info['critical_frequency_hz']:.0f} Hz mode dominated by {info['critical_dof']}); "
             f"use solver.dt = {info['dt_suggested']:g} s",
-            dt=dt, dt_max=info["dt_max"], dt_suggested=info["dt_suggested"])
+            dt=dt,
+            dt_max=info["dt_max"],
+            dt_suggested=info["dt_suggested"],
+        )
     return info

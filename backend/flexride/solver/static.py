@@ -21,8 +21,13 @@ def initial_window_start(asm: Assembly, s: float = 0.0) -> float:
     return float(np.floor((s + x_rear - margin) / d) * d)
 
 
-def static_equilibrium(asm: Assembly, s: float = 0.0, s_win0: float | None = None,
-                       tol: float = 1e-9, max_iter: int = 40) -> np.ndarray:
+def static_equilibrium(
+    asm: Assembly,
+    s: float = 0.0,
+    s_win0: float | None = None,
+    tol: float = 1e-9,
+    max_iter: int = 40,
+) -> np.ndarray:
     """Coordinates of static equilibrium at position ``s`` (m) on the line.
 
     Solves A(X) = 0 for the vertical-plane body coordinates, the elastic modes and the rail

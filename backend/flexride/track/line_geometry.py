@@ -48,12 +48,16 @@ class LineTable:
 
     def as_array(self) -> np.ndarray:
         """(5, n) contiguous array: curvature, roll, heading, heading_integral, dcurvature."""
-        return np.ascontiguousarray(np.vstack([self.curvature, self.roll, self.heading,
-                                               self.heading_integral, self.dcurvature]))
+        return np.ascontiguousarray(
+            np.vstack(
+                [self.curvature, self.roll, self.heading, self.heading_integral, self.dcurvature]
+            )
+        )
 
 
-def curvature_and_cant(line: StraightLine | CurvedLine, s: np.ndarray,
-                       rail_half_distance: float) -> tuple[np.ndarray, np.ndarray]:
+def curvature_and_cant(
+    line: StraightLine | CurvedLine, s: np.ndarray, rail_half_distance: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Signed curvature (1/m) and track roll angle (rad) at positions ``s`` (m)."""
     s = np.asarray(s, dtype=float)
     if isinstance(line, StraightLine):
@@ -77,8 +81,13 @@ def curvature_and_cant(line: StraightLine | CurvedLine, s: np.ndarray,
     return kappa, roll * frac
 
 
-def build_line_table(line: StraightLine | CurvedLine, s_min: float, s_max: float,
-                     rail_half_distance: float, ds: float = 0.25) -> LineTable:
+def build_line_table(
+    line: StraightLine | CurvedLine,
+    s_min: float,
+    s_max: float,
+    rail_half_distance: float,
+    ds: float = 0.25,
+) -> LineTable:
     """Tabulate the line between ``s_min`` and ``s_max`` (m) on a grid of step ``ds`` (m)."""
     n = int(np.ceil((s_max - s_min) / ds)) + 2
     s = s_min + ds * np.arange(n)
@@ -86,12 +95,19 @@ def build_line_table(line: StraightLine | CurvedLine, s_min: float, s_max: float
     heading = np.concatenate([[0.0], np.cumsum(0.5 * (kappa[1:] + kappa[:-1]) * ds)])
     hint = np.concatenate([[0.0], np.cumsum(0.5 * (heading[1:] + heading[:-1]) * ds)])
     dk = np.gradient(kappa, ds)
-    return LineTable(s0=s_min, ds=ds, curvature=kappa, roll=roll, heading=heading,
-                     heading_integral=hint, dcurvature=dk)
+    return LineTable(
+        s0=s_min,
+        ds=ds,
+        curvature=kappa,
+        roll=roll,
+        heading=heading,
+        heading_integral=hint,
+        dcurvature=dk,
+    )
 
 
-def uncompensated_lateral_acceleration(speed_mps: float, radius_m: float,
-                                       superelevation_m: float,
-                                       rail_half_distance: float = 0.75) -> float:
+def uncompensated_lateral_acceleration(
+    speed_mps: float, radius_m: float, superelevation_m: float, rail_half_distance: float = 0.75
+) -> float:
     """Uncompensated lateral acceleration in the track plane, V²/R − g·h/(2b) (m/s²)."""
     return speed_mps**2 / radius_m - GRAVITY * superelevation_m / (2.0 * rail_half_distance)

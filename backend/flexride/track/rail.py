@@ -8,7 +8,8 @@ fasteners couple the modes *diagonally* (discrete orthogonality,
 acts on each mode like a foundation of stiffness k_f/d. The generalised equations per mode are
 
     m q̈_z + (c_z/d) q̇_z + (E·I_y·κ⁴ + k_z/d) q_z = (2/L) Σ_w P_w sin(κ x_w)
-    m q̈_y + (c_y/d)(q̇_y + h_f q̇_t) + E·I_z·κ⁴ q_y + (k_y/d)(q_y + h_f q_t) = (2/L) Σ_w Q_w sin(κ x_w)
+    m q̈_y + (c_y/d)(q̇_y + h_f q̇_t) + E·I_z·κ⁴ q_y + (k_y/d)(q_y + h_f q_t)
+          = (2/L) Σ_w Q_w sin(κ x_w)
     ρI₀ q̈_t + G·J·κ² q_t + (k_r/d) q_t + h_f (k_y/d)(q_y + h_f q_t) + … = (2/L) Σ_w M_w sin(κ x_w)
 
 with κ = kπ/L, q_y the lateral displacement of the shear centre and h_f the height of the
@@ -83,10 +84,12 @@ class RailModel:
         """Natural frequencies of the coupled lateral/torsional modes, shape (n_modes, 2) (Hz)."""
         out = np.empty((self.n_modes, 2))
         ky, hf = self.ky / self.spacing, self.h_foot
-        for i, (kb, kt) in enumerate(zip(self.lateral_bending_stiffness(),
-                                         self.torsional_stiffness(), strict=True)):
-            k = np.array([[kb + ky, ky * hf],
-                          [ky * hf, kt + self.k_roll / self.spacing + ky * hf * hf]])
+        for i, (kb, kt) in enumerate(
+            zip(self.lateral_bending_stiffness(), self.torsional_stiffness(), strict=True)
+        ):
+            k = np.array(
+                [[kb + ky, ky * hf], [ky * hf, kt + self.k_roll / self.spacing + ky * hf * hf]]
+            )
             m = np.diag([self.mass, self.roll_inertia])
             w2 = np.linalg.eigvals(np.linalg.solve(m, k)).real
             out[i] = np.sqrt(np.sort(w2)) / (2.0 * np.pi)
@@ -110,8 +113,11 @@ class RailModel:
         w = 2.0 * np.pi * np.asarray(freq_hz, dtype=float)
         kap = self.wavenumbers()
         s2 = np.sin(kap * x) ** 2 * (2.0 / self.length)
-        den = (self.vertical_stiffness()[None, :] - self.mass * w[:, None] ** 2
-               + 1j * w[:, None] * self.cz / self.spacing)
+        den = (
+            self.vertical_stiffness()[None, :]
+            - self.mass * w[:, None] ** 2
+            + 1j * w[:, None] * self.cz / self.spacing
+        )
         return (s2[None, :] / den).sum(axis=1)
 
 
@@ -145,7 +151,12 @@ def build_rail_model(track: Track, wheel_span: float, margin: float, shift: floa
         ei_vertical=rail.youngs_modulus * rail.iy,
         ei_lateral=rail.youngs_modulus * rail.iz,
         gj=rail.shear_modulus * rail.torsion_constant,
-        kz=fas.kz, cz=fas.cz, ky=fas.ky, cy=fas.cy, k_roll=fas.k_roll, c_roll=fas.c_roll,
+        kz=fas.kz,
+        cz=fas.cz,
+        ky=fas.ky,
+        cy=fas.cy,
+        k_roll=fas.k_roll,
+        c_roll=fas.c_roll,
         h_foot=rail.shear_centre_above_foot,
         h_head=rail.head_above_shear_centre,
     )

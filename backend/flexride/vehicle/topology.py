@@ -80,9 +80,12 @@ def paper_point_positions(params: Vehicle, output: Output) -> list[OutputPoint]:
     ]
 
 
-def build_vehicle(params: Vehicle, output: Output | None = None,
-                  carbody: ModalBody | None = None,
-                  frames: tuple[ModalBody, ModalBody] | None = None) -> VehicleModel:
+def build_vehicle(
+    params: Vehicle,
+    output: Output | None = None,
+    carbody: ModalBody | None = None,
+    frames: tuple[ModalBody, ModalBody] | None = None,
+) -> VehicleModel:
     """Build the 7-body metro vehicle from its parameters.
 
     Parameters
@@ -106,19 +109,29 @@ def build_vehicle(params: Vehicle, output: Output | None = None,
     cb, fr, ws = params.carbody, params.frame, params.wheelset
 
     bodies: list[ModalBody] = []
-    bodies.append(carbody or rigid_body("carbody", cb.mass, (cb.ixx, cb.iyy, cb.izz), 0.0,
-                                        cb.cg_height))
+    bodies.append(
+        carbody or rigid_body("carbody", cb.mass, (cb.ixx, cb.iyy, cb.izz), 0.0, cb.cg_height)
+    )
     frame_x = (lc, -lc)
     for i, x in enumerate(frame_x):
         if frames is not None:
             bodies.append(frames[i])
         else:
-            bodies.append(rigid_body(f"frame{i + 1}", fr.mass, (fr.ixx, fr.iyy, fr.izz), x,
-                                     fr.cg_height))
+            bodies.append(
+                rigid_body(f"frame{i + 1}", fr.mass, (fr.ixx, fr.iyy, fr.izz), x, fr.cg_height)
+            )
     ws_x = (lc + lw, lc - lw, -lc + lw, -lc - lw)
     for i, x in enumerate(ws_x):
-        bodies.append(rigid_body(f"wheelset{i + 1}", ws.mass, (ws.ixx, ws.iyy, ws.izz), x,
-                                 ws.cg_height, is_wheelset=True))
+        bodies.append(
+            rigid_body(
+                f"wheelset{i + 1}",
+                ws.mass,
+                (ws.ixx, ws.iyy, ws.izz),
+                x,
+                ws.cg_height,
+                is_wheelset=True,
+            )
+        )
     ic = 0
     i_frames = (1, 2)
     i_ws = (3, 4, 5, 6)
@@ -135,53 +148,106 @@ def build_vehicle(params: Vehicle, output: Output | None = None,
         frame = bodies[i_f]
         xf = frame.x_ref
         # secondary suspension: air springs left and right
-        for side, ys in (("L", g.secondary_lateral_half_spacing),
-                         ("R", -g.secondary_lateral_half_spacing)):
+        for side, ys in (
+            ("L", g.secondary_lateral_half_spacing),
+            ("R", -g.secondary_lateral_half_spacing),
+        ):
             m_c = f"as{jf + 1}{side}"
-            carbody_body.add_marker(m_c, (xf - carbody_body.x_ref, ys,
-                                          g.secondary_height - carbody_body.cg_height))
+            carbody_body.add_marker(
+                m_c, (xf - carbody_body.x_ref, ys, g.secondary_height - carbody_body.cg_height)
+            )
             frame.add_marker(m_c, (0.0, ys, g.secondary_height - frame.cg_height))
-            elements.append(SuspensionElement(f"secondary.{jf + 1}{side}", ic, m_c, i_f, m_c,
-                                              k_sec.copy(), c_sec.copy()))
+            elements.append(
+                SuspensionElement(
+                    f"secondary.{jf + 1}{side}", ic, m_c, i_f, m_c, k_sec.copy(), c_sec.copy()
+                )
+            )
         # optional: anti-roll bar, secondary lateral damper, yaw dampers
         centre = f"bogie{jf + 1}"
-        carbody_body.add_marker(centre, (xf - carbody_body.x_ref, 0.0,
-                                         g.secondary_height - carbody_body.cg_height))
+        carbody_body.add_marker(
+            centre, (xf - carbody_body.x_ref, 0.0, g.secondary_height - carbody_body.cg_height)
+        )
         frame.add_marker(centre, (0.0, 0.0, g.secondary_height - frame.cg_height))
         if o.anti_roll_bar_stiffness > 0.0:
-            elements.append(SuspensionElement(
-                f"anti_roll_bar.{jf + 1}", ic, centre, i_f, centre,
-                _six((0.0, 0.0, 0.0), (o.anti_roll_bar_stiffness, 0.0, 0.0)), np.zeros(6)))
+            elements.append(
+                SuspensionElement(
+                    f"anti_roll_bar.{jf + 1}",
+                    ic,
+                    centre,
+                    i_f,
+                    centre,
+                    _six((0.0, 0.0, 0.0), (o.anti_roll_bar_stiffness, 0.0, 0.0)),
+                    np.zeros(6),
+                )
+            )
         if o.secondary_lateral_damper > 0.0:
             m = f"latdamper{jf + 1}"
-            carbody_body.add_marker(m, (xf - carbody_body.x_ref, 0.0,
-                                        o.secondary_lateral_damper_height - carbody_body.cg_height))
+            carbody_body.add_marker(
+                m,
+                (
+                    xf - carbody_body.x_ref,
+                    0.0,
+                    o.secondary_lateral_damper_height - carbody_body.cg_height,
+                ),
+            )
             frame.add_marker(m, (0.0, 0.0, o.secondary_lateral_damper_height - frame.cg_height))
-            elements.append(SuspensionElement(f"lateral_damper.{jf + 1}", ic, m, i_f, m,
-                                              np.zeros(6),
-                                              _six((0.0, o.secondary_lateral_damper, 0.0))))
+            elements.append(
+                SuspensionElement(
+                    f"lateral_damper.{jf + 1}",
+                    ic,
+                    m,
+                    i_f,
+                    m,
+                    np.zeros(6),
+                    _six((0.0, o.secondary_lateral_damper, 0.0)),
+                )
+            )
         if o.yaw_damper > 0.0:
-            for side, ys in (("L", o.yaw_damper_lateral_half_spacing),
-                             ("R", -o.yaw_damper_lateral_half_spacing)):
+            for side, ys in (
+                ("L", o.yaw_damper_lateral_half_spacing),
+                ("R", -o.yaw_damper_lateral_half_spacing),
+            ):
                 m = f"yawdamper{jf + 1}{side}"
-                carbody_body.add_marker(m, (xf - carbody_body.x_ref, ys,
-                                            g.secondary_height - carbody_body.cg_height))
+                carbody_body.add_marker(
+                    m, (xf - carbody_body.x_ref, ys, g.secondary_height - carbody_body.cg_height)
+                )
                 frame.add_marker(m, (0.0, ys, g.secondary_height - frame.cg_height))
-                elements.append(SuspensionElement(f"yaw_damper.{jf + 1}{side}", ic, m, i_f, m,
-                                                  np.zeros(6), _six((o.yaw_damper, 0.0, 0.0))))
+                elements.append(
+                    SuspensionElement(
+                        f"yaw_damper.{jf + 1}{side}",
+                        ic,
+                        m,
+                        i_f,
+                        m,
+                        np.zeros(6),
+                        _six((o.yaw_damper, 0.0, 0.0)),
+                    )
+                )
         # primary suspension: two axle boxes per wheelset
-        for i_w in i_ws[2 * jf: 2 * jf + 2]:
+        for i_w in i_ws[2 * jf : 2 * jf + 2]:
             wheelset = bodies[i_w]
             dx = wheelset.x_ref - xf
-            for side, ys in (("L", g.primary_lateral_half_spacing),
-                             ("R", -g.primary_lateral_half_spacing)):
+            for side, ys in (
+                ("L", g.primary_lateral_half_spacing),
+                ("R", -g.primary_lateral_half_spacing),
+            ):
                 m = f"axlebox{side}"
                 m_f = f"{wheelset.name}.{m}"
                 frame.add_marker(m_f, (dx, ys, g.primary_height - frame.cg_height))
-                wheelset.add_marker(m, (0.0, ys, g.primary_height - wheelset.cg_height),
-                                    lock_pitch=True)
-                elements.append(SuspensionElement(f"primary.{wheelset.name}.{side}", i_f, m_f,
-                                                  i_w, m, k_prim.copy(), c_prim.copy()))
+                wheelset.add_marker(
+                    m, (0.0, ys, g.primary_height - wheelset.cg_height), lock_pitch=True
+                )
+                elements.append(
+                    SuspensionElement(
+                        f"primary.{wheelset.name}.{side}",
+                        i_f,
+                        m_f,
+                        i_w,
+                        m,
+                        k_prim.copy(),
+                        c_prim.copy(),
+                    )
+                )
 
     # recorded points
     points: list[tuple[str, int, str]] = []
@@ -199,6 +265,11 @@ def build_vehicle(params: Vehicle, output: Output | None = None,
         b.add_marker("centre", (0.0, 0.0, 0.0), lock_pitch=b.is_wheelset)
         points.append(("centre", i, "centre"))
 
-    return VehicleModel(bodies=bodies, elements=elements, wheelsets=list(i_ws), points=points,
-                        rolling_circle_half_distance=g.rolling_circle_half_distance,
-                        wheel_radius=g.wheel_radius)
+    return VehicleModel(
+        bodies=bodies,
+        elements=elements,
+        wheelsets=list(i_ws),
+        points=points,
+        rolling_circle_half_distance=g.rolling_circle_half_distance,
+        wheel_radius=g.wheel_radius,
+    )

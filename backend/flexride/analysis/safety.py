@@ -1,0 +1,472 @@
+"""Running safety from wheel–rail forces: derailment coefficient Q/P, wheel unloading ΔP/P and
+the wheelset lateral force ΣY, with the limits of DESIGN §6.
+
+Forces (flexride channels): ``wheelset<i>.<side>.force.z`` is the vertical wheel load P (N,
+positive in compression), ``wheelset<i>.<side>.force.y`` the lateral wheel–rail force (N, in
+track y, left positive, exerted by the rail on the wheel).
+
+Quantities and limits
+---------------------
+Derailment coefficient Q/P (GB 5599-1985 allowable limit 1.2)
+    Q is the lateral force *towards the track centre*: −F_y on the left wheel, +F_y on the right
+    wheel (the flange-climbing sense: the rail pushes the climbing wheel's flange inwards);
+    ``side=None`` uses |F_y|. P is floored at 1 % of its mean to keep the ratio finite during
+    wheel lift (counted in ``notes``).
+Wheel unloading rate ΔP/P (GB 5599-1985 allowable limit 0.65)
+    ΔP/P = (P0 − P)/P0 with P0 the static wheel load; only unloading counts.
+Wheelset lateral force ΣY (EN 14363 Prud'homme limit 10 + P0/3 kN)
+    ΣY = F_y,left + F_y,right (kN), |ΣY| compared with 10 + P0/3, P0 the static axle load in kN.
+
+Processing (pinned, after the EN 14363 / UIC 518 table for (Y/Q)_2m and (ΣY)_2m)
+    1. low pass at **20 Hz**: 4th-order Butterworth, forward–backward (zero phase);
+    2. Q/P and ΣY: **sliding mean over 2 m** of track, evaluated every **0.5 m** (window and
+       step converted to samples with the running speed); ΔP/P: no sliding mean (EN 14363
+       evaluates the vertical force Q after the 20 Hz low pass only);
+    3. assessed value: the **maximum** of the processed signal (GB 5599 compares the maximum;
+       the EN 14363 statistic, the 99.85th percentile, is reported as ``p99_85``), compared
+       with the limit.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from scipy import signal
+
+from flexride.analysis._common import check_nyquist, check_rate, check_signal
+from flexride.errors import AnalysisError
+
+if TYPE_CHECKING:
+    from flexride.results import Results
+
+__all__ = [
+    "SAFETY_DEFAULTS",
+    "SAFETY_LIMITS",
+    "RunningSafety",
+    "SafetyIndex",
+    "derailment_coefficient",
+    "lateral_force_limit",
+    "running_safety",
+    "wheel_unloading",
+    "wheelset_lateral_force",
+]
+
+#: Limits of DESIGN §6.
+SAFETY_LIMITS = {"derailment_coefficient": 1.2, "wheel_unloading": 0.65}
+#: Pinned processing parameters.
+SAFETY_DEFAULTS = {"lowpass_hz": 20.0, "window_m": 2.0, "step_m": 0.5, "order": 4}
+
+
+@dataclass
+class SafetyIndex:
+    """One running-safety quantity at one wheel or wheelset.
+
+    Attributes
+    ----------
+    name : str
+        ``"derailment_coefficient"``, ``"wheel_unloading"`` or ``"wheelset_lateral_force"``.
+    location : str
+        ``"wheelset1.left"``, ``"wheelset2"``...
+    value : float
+        Assessed value (maximum of the processed signal) in ``unit``.
+    limit : float
+        Limit in ``unit``.
+    utilisation : float
+        value / limit (-).
+    passed : bool
+        value ≤ limit.
+    p99_85 : float
+        99.85th percentile of the processed signal.
+    time_of_max : float
+        Time of the maximum in s (centre of the sliding window where one is used).
+    standard, processing : str
+        Where the limit comes from and how the signal was processed.
+    times, series : numpy.ndarray or None
+        The processed signal (only kept when requested).
+    """
+
+    name: str
+    location: str
+    value: float
+    limit: float
+    utilisation: float
+    passed: bool
+    p99_85: float
+    time_of_max: float
+    unit: str
+    standard: str
+    processing: str
+    notes: list[str] = field(default_factory=list)
+    times: np.ndarray | None = None
+    series: np.ndarray | None = None
+
+
+@functools.lru_cache(maxsize=32)
+def _butter_low(order: int, cutoff: float, fs: float) -> np.ndarray:
+    return signal.butter(order, cutoff, btype="low", fs=fs, output="sos")
+
+
+def _lowpass(x: np.ndarray, fs: float, cutoff: float, order: int) -> np.ndarray:
+    """Zero-phase Butterworth low pass along the last axis."""
+    check_nyquist(fs, cutoff, f"the {cutoff:g} Hz low pass of running-safety forces", factor=2.5)
+    sos = _butter_low(int(order), float(cutoff), float(fs))
+    padlen = min(x.shape[-1] - 1, 3 * (2 * len(sos) + 1) + int(3 * fs / cutoff))
+    return signal.sosfiltfilt(sos, x, axis=-1, padlen=padlen)
+
+
+def _sliding_mean(
+    x: np.ndarray, fs: float, speed: float, window_m: float, step_m: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Sliding mean over ``window_m`` of track every ``step_m``; returns (centre times, means)."""
+    if not (math.isfinite(speed) and speed > 0.0):
+        raise AnalysisError(
+            f"running speed must be positive (m/s) for a sliding window, got {speed!r}")
+    nw = max(1, round(window_m / speed * fs))
+    ns = max(1, round(step_m / speed * fs))
+    if x.shape[-1] < nw:
+        raise AnalysisError(
+            f"record of {x.shape[-1] / fs:.3g} s is shorter than the {window_m:g} m sliding "
+            f"window ({nw / fs:.3g} s at {speed:g} m/s)"
+        )
+    csum = np.concatenate([[0.0], np.cumsum(x)])
+    ends = np.arange(nw, x.shape[-1] + 1, ns)
+    return (ends - 0.5 * nw - 0.5) / fs, (csum[ends] - csum[ends - nw]) / nw
+
+
+def _make_index(name: str, location: str, times: np.ndarray, series: np.ndarray, limit: float,
+                unit: str, standard: str, processing: str, notes: list[str],
+                keep_series: bool) -> SafetyIndex:
+    i = int(np.argmax(series))
+    value = float(series[i])
+    return SafetyIndex(
+        name=name, location=location, value=value, limit=float(limit),
+        utilisation=value / limit if limit else float("nan"), passed=bool(value <= limit),
+        p99_85=float(np.percentile(series, 99.85)), time_of_max=float(times[i]), unit=unit,
+        standard=standard, processing=processing, notes=notes,
+        times=times if keep_series else None, series=series if keep_series else None,
+    )
+
+
+def derailment_coefficient(
+    lateral_force: np.ndarray,
+    vertical_force: np.ndarray,
+    fs: float,
+    speed_mps: float,
+    *,
+    side: str | None = None,
+    location: str = "",
+    lowpass_hz: float = SAFETY_DEFAULTS["lowpass_hz"],
+    window_m: float = SAFETY_DEFAULTS["window_m"],
+    step_m: float = SAFETY_DEFAULTS["step_m"],
+    keep_series: bool = False,
+) -> SafetyIndex:
+    """Derailment coefficient Q/P of one wheel (limit 1.2, GB 5599).
+
+    Parameters
+    ----------
+    lateral_force : array_like
+        Lateral wheel–rail force F_y on the wheel in N (track y, left positive).
+    vertical_force : array_like
+        Vertical wheel load P in N (positive in compression).
+    fs : float
+        Sample rate in Hz.
+    speed_mps : float
+        Running speed in m/s (converts the 2 m window to samples).
+    side : {"left", "right", None}
+        Wheel side: Q = −F_y (left) or +F_y (right), the force towards the track centre;
+        None uses |F_y|.
+    location : str
+        Label, e.g. ``"wheelset1.left"``.
+    lowpass_hz, window_m, step_m : float
+        Processing (module docs).
+    keep_series : bool
+        Keep the processed Q/P signal in the result.
+    """
+    fs = check_rate(fs)
+    q = check_signal(lateral_force, fs, name="lateral force", ndim=(1,), min_samples=8,
+                     method="the derailment coefficient")
+    p = check_signal(vertical_force, fs, name="vertical force", ndim=(1,), min_samples=8,
+                     method="the derailment coefficient")
+    if q.shape != p.shape:
+        raise AnalysisError("lateral and vertical force records differ in length")
+    if side not in ("left", "right", None):
+        raise AnalysisError(f"side must be 'left', 'right' or None, got {side!r}")
+    lp = _lowpass(np.vstack([q, p]), fs, lowpass_hz, SAFETY_DEFAULTS["order"])
+    return _derailment_core(lp[0], lp[1], float(np.mean(p)), fs, speed_mps, side, location,
+                            lowpass_hz, window_m, step_m, keep_series)
+
+
+def _derailment_core(q_lp: np.ndarray, p_lp: np.ndarray, p_mean: float, fs: float,
+                     speed_mps: float, side: str | None, location: str, lowpass_hz: float,
+                     window_m: float, step_m: float, keep_series: bool) -> SafetyIndex:
+    q_eff = -q_lp if side == "left" else q_lp if side == "right" else np.abs(q_lp)
+    p_floor = 0.01 * abs(p_mean)
+    if p_floor <= 0.0:
+        raise AnalysisError("vertical wheel load is zero on average: no derailment coefficient")
+    lift = int(np.count_nonzero(p_lp < p_floor))
+    ratio = q_eff / np.maximum(p_lp, p_floor)
+    t, s = _sliding_mean(ratio, fs, speed_mps, window_m, step_m)
+    notes = [f"wheel load below 1 % of its mean in {lift} sample(s) (floored)"] if lift else []
+    sense = {"left": "Q = −F_y (towards track centre)", "right": "Q = +F_y (towards track centre)",
+             None: "Q = |F_y|"}[side]
+    proc = (f"{sense}; {lowpass_hz:g} Hz Butterworth low pass (order 4, zero phase) on Q and P; "
+            f"Q/P sliding mean over {window_m:g} m every {step_m:g} m; maximum")
+    return _make_index("derailment_coefficient", location, t, s,
+                       SAFETY_LIMITS["derailment_coefficient"], "-",
+                       "GB 5599-1985 allowable limit (DESIGN §6)", proc, notes, keep_series)
+
+
+def wheel_unloading(
+    vertical_force: np.ndarray,
+    static_load: float,
+    fs: float,
+    *,
+    location: str = "",
+    lowpass_hz: float = SAFETY_DEFAULTS["lowpass_hz"],
+    keep_series: bool = False,
+    series_step_s: float | None = None,
+) -> SafetyIndex:
+    """Wheel unloading rate ΔP/P = (P0 − P)/P0 of one wheel (limit 0.65, GB 5599).
+
+    Parameters
+    ----------
+    vertical_force : array_like
+        Vertical wheel load P in N.
+    static_load : float
+        Static wheel load P0 in N (> 0).
+    fs : float
+        Sample rate in Hz.
+    location : str
+        Label.
+    lowpass_hz : float
+        Low-pass cut-off in Hz.
+    keep_series : bool
+        Keep the processed signal.
+    series_step_s : float, optional
+        Keep only the largest value of every block of this duration (s) in the series.
+    """
+    fs = check_rate(fs)
+    p = check_signal(vertical_force, fs, name="vertical force", ndim=(1,), min_samples=8,
+                     method="the wheel unloading rate")
+    p0 = float(static_load)
+    if not (math.isfinite(p0) and p0 > 0.0):
+        raise AnalysisError(f"static wheel load must be positive (N), got {static_load!r}")
+    p_lp = _lowpass(p, fs, lowpass_hz, SAFETY_DEFAULTS["order"])
+    return _unloading_core(p_lp, p0, fs, location, lowpass_hz, keep_series, series_step_s)
+
+
+def _unloading_core(p_lp: np.ndarray, p0: float, fs: float, location: str, lowpass_hz: float,
+                    keep_series: bool, series_step_s: float | None) -> SafetyIndex:
+    rate = (p0 - p_lp) / p0
+    t = np.arange(p_lp.size) / fs
+    proc = (f"ΔP/P = (P0 − P)/P0, P0 = {p0:.6g} N; {lowpass_hz:g} Hz Butterworth low pass "
+            "(order 4, zero phase); maximum (unloading positive)")
+    idx = _make_index("wheel_unloading", location, t, rate, SAFETY_LIMITS["wheel_unloading"],
+                      "-", "GB 5599-1985 allowable limit (DESIGN §6)", proc, [], False)
+    if keep_series:
+        step = 1 if series_step_s is None else max(1, round(series_step_s * fs))
+        nb = rate.size // step
+        if step > 1 and nb >= 1:
+            idx.series = rate[: nb * step].reshape(nb, step).max(axis=1)
+            idx.times = (np.arange(nb) + 0.5) * step / fs
+        else:
+            idx.series, idx.times = rate, t
+    return idx
+
+
+def lateral_force_limit(static_axle_load: float) -> float:
+    """EN 14363 (Prud'homme) wheelset lateral force limit 10 + P0/3 in kN (P0 axle load in N)."""
+    return 10.0 + float(static_axle_load) / 1000.0 / 3.0
+
+
+def wheelset_lateral_force(
+    lateral_force_left: np.ndarray,
+    lateral_force_right: np.ndarray,
+    static_axle_load: float,
+    fs: float,
+    speed_mps: float,
+    *,
+    location: str = "",
+    lowpass_hz: float = SAFETY_DEFAULTS["lowpass_hz"],
+    window_m: float = SAFETY_DEFAULTS["window_m"],
+    step_m: float = SAFETY_DEFAULTS["step_m"],
+    keep_series: bool = False,
+) -> SafetyIndex:
+    """Wheelset lateral force |ΣY| in kN against 10 + P0/3 kN (EN 14363).
+
+    Parameters
+    ----------
+    lateral_force_left, lateral_force_right : array_like
+        Lateral wheel–rail forces on the two wheels in N (track y).
+    static_axle_load : float
+        Static axle load P0 in N.
+    fs : float
+        Sample rate in Hz.
+    speed_mps : float
+        Running speed in m/s.
+    location : str
+        Label, e.g. ``"wheelset1"``.
+    lowpass_hz, window_m, step_m : float
+        Processing (module docs).
+    keep_series : bool
+        Keep the processed signal.
+    """
+    fs = check_rate(fs)
+    yl = check_signal(lateral_force_left, fs, name="left lateral force", ndim=(1,),
+                      min_samples=8, method="the wheelset lateral force")
+    yr = check_signal(lateral_force_right, fs, name="right lateral force", ndim=(1,),
+                      min_samples=8, method="the wheelset lateral force")
+    if yl.shape != yr.shape:
+        raise AnalysisError("left and right lateral force records differ in length")
+    p0 = float(static_axle_load)
+    if not (math.isfinite(p0) and p0 > 0.0):
+        raise AnalysisError(f"static axle load must be positive (N), got {static_axle_load!r}")
+    h = _lowpass(yl + yr, fs, lowpass_hz, SAFETY_DEFAULTS["order"]) / 1000.0
+    return _lateral_core(h, p0, fs, speed_mps, location, lowpass_hz, window_m, step_m,
+                         keep_series)
+
+
+def _lateral_core(h: np.ndarray, p0: float, fs: float, speed_mps: float, location: str,
+                  lowpass_hz: float, window_m: float, step_m: float,
+                  keep_series: bool) -> SafetyIndex:
+    t, s = _sliding_mean(h, fs, speed_mps, window_m, step_m)
+    proc = (f"ΣY = F_y,left + F_y,right; {lowpass_hz:g} Hz Butterworth low pass (order 4, zero "
+            f"phase); sliding mean over {window_m:g} m every {step_m:g} m; maximum of |ΣY|")
+    return _make_index("wheelset_lateral_force", location, t, np.abs(s),
+                       lateral_force_limit(p0), "kN",
+                       f"EN 14363 limit 10 + P0/3 kN, P0 = {p0 / 1000:.4g} kN (DESIGN §6)",
+                       proc, [], keep_series)
+
+
+@dataclass
+class RunningSafety:
+    """Running-safety indices of a run.
+
+    Attributes
+    ----------
+    indices : list of SafetyIndex
+        Every quantity at every wheel / wheelset.
+    passed : bool
+        All indices within their limits.
+    static_wheel_loads : dict
+        Static wheel load per wheel (N) and where it came from.
+    processing : dict
+        Pinned processing parameters.
+    """
+
+    indices: list[SafetyIndex]
+    passed: bool
+    static_wheel_loads: dict[str, Any]
+    processing: dict[str, Any]
+    notes: list[str] = field(default_factory=list)
+
+    def worst(self, name: str) -> SafetyIndex | None:
+        """The index of one kind with the highest utilisation, or None."""
+        cands = [i for i in self.indices if i.name == name]
+        return max(cands, key=lambda i: i.utilisation) if cands else None
+
+
+_WS = re.compile(r"^wheelset(\d+)\.(left|right)\.force\.([yz])$")
+
+
+def _static_loads(meta: dict[str, Any], n_ws: list[int], channels: dict[str, np.ndarray]
+                  ) -> tuple[dict[str, float], str]:
+    raw = meta.get("static_wheel_loads")
+    loads: dict[str, float] = {}
+    if raw is not None:
+        arr = np.asarray(raw, dtype=np.float64)
+        if arr.ndim == 1 and arr.size == 2 * len(n_ws):
+            arr = arr.reshape(-1, 2)
+        if arr.ndim == 2 and arr.shape == (len(n_ws), 2):
+            for k, ws in enumerate(n_ws):
+                loads[f"wheelset{ws}.left"] = float(arr[k, 0])
+                loads[f"wheelset{ws}.right"] = float(arr[k, 1])
+            return loads, "results.meta['static_wheel_loads']"
+    for ws in n_ws:
+        for side in ("left", "right"):
+            loads[f"wheelset{ws}.{side}"] = float(np.mean(channels[f"wheelset{ws}.{side}.force.z"]))
+    src = "mean of force.z over the run"
+    if raw is not None:
+        src += " (meta['static_wheel_loads'] has an unexpected shape)"
+    return loads, src
+
+
+def _speed_of(results: Results) -> float:
+    v = results.meta.get("speed_mps")
+    if v is not None:
+        return float(v)
+    kmh = results.scenario.get("speed_kmh") if isinstance(results.scenario, dict) else None
+    if kmh is not None:
+        return float(kmh) / 3.6
+    d, t = np.asarray(results.distance), np.asarray(results.time)
+    if d.size >= 2 and t[-1] > t[0]:
+        return float((d[-1] - d[0]) / (t[-1] - t[0]))
+    raise AnalysisError("running speed unknown: no meta['speed_mps'] and no distance axis")
+
+
+def running_safety(
+    results: Results,
+    *,
+    lowpass_hz: float = SAFETY_DEFAULTS["lowpass_hz"],
+    window_m: float = SAFETY_DEFAULTS["window_m"],
+    step_m: float = SAFETY_DEFAULTS["step_m"],
+    keep_series: bool = False,
+) -> RunningSafety | None:
+    """Running-safety indices of every wheelset in a run (None if it has no wheel forces).
+
+    Uses ``wheelset<i>.<side>.force.z`` / ``.force.y``; static wheel loads from
+    ``results.meta["static_wheel_loads"]`` (``[[left, right], ...]`` or flat per wheelset and
+    side, N), else the mean of force.z over the run.
+    """
+    found: dict[int, set[str]] = {}
+    for name in results.channels:
+        m = _WS.match(name)
+        if m:
+            found.setdefault(int(m.group(1)), set()).add(f"{m.group(2)}.{m.group(3)}")
+    complete = sorted(ws for ws, parts in found.items()
+                      if {"left.y", "left.z", "right.y", "right.z"} <= parts)
+    if not complete:
+        return None
+    fs = check_rate(results.sample_rate)
+    speed = _speed_of(results)
+    parts = ("left.force.y", "left.force.z", "right.force.y", "right.force.z")
+    names = [f"wheelset{ws}.{part}" for ws in complete for part in parts]
+    raw = check_signal(np.vstack([np.asarray(results.channels[c], dtype=np.float64)
+                                  for c in names]), fs, name="wheel-rail forces", min_samples=8,
+                       method="running safety")
+    loads, src = _static_loads(results.meta, complete, results.channels)
+    bad = [k for k, v in loads.items() if not (math.isfinite(v) and v > 0.0)]
+    if bad:
+        raise AnalysisError(f"static wheel load not positive at {', '.join(bad)} ({src})")
+    lp = _lowpass(raw, fs, lowpass_hz, SAFETY_DEFAULTS["order"])
+    indices: list[SafetyIndex] = []
+    notes: list[str] = []
+    for k, ws in enumerate(complete):
+        rows = {part: 4 * k + j for j, part in enumerate(parts)}
+        for side in ("left", "right"):
+            loc = f"wheelset{ws}.{side}"
+            iy, iz = rows[f"{side}.force.y"], rows[f"{side}.force.z"]
+            indices.append(_derailment_core(lp[iy], lp[iz], float(np.mean(raw[iz])), fs, speed,
+                                            side, loc, lowpass_hz, window_m, step_m,
+                                            keep_series))
+            indices.append(_unloading_core(lp[iz], loads[loc], fs, loc, lowpass_hz,
+                                           keep_series, step_m / speed))
+        axle = loads[f"wheelset{ws}.left"] + loads[f"wheelset{ws}.right"]
+        h = (lp[rows["left.force.y"]] + lp[rows["right.force.y"]]) / 1000.0
+        indices.append(_lateral_core(h, axle, fs, speed, f"wheelset{ws}", lowpass_hz, window_m,
+                                     step_m, keep_series))
+    incomplete = sorted(set(found) - set(complete))
+    if incomplete:
+        notes.append(f"wheelsets without all four force channels skipped: {incomplete}")
+    return RunningSafety(
+        indices=indices, passed=all(i.passed for i in indices),
+        static_wheel_loads={"values_N": loads, "source": src},
+        processing={"lowpass_hz": lowpass_hz, "window_m": window_m, "step_m": step_m,
+                    "speed_mps": speed, "filter": "Butterworth order 4, zero phase"},
+        notes=notes,
+    )

@@ -1,0 +1,244 @@
+"""Command-line interface: ``flexride run``, ``flexride presets``, ``flexride analyze``.
+
+Every command that prints results also takes ``--json``. Errors of the user's making end the
+program with exit code 2 and one readable line on standard error.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+import yaml
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich.table import Table
+
+from flexride.errors import FlexrideError, ScenarioError
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="flexride: ride comfort of metro vehicles on flexible track.",
+)
+console = Console()
+err_console = Console(stderr=True)
+
+
+def _fail(message: str, code: int = 2) -> None:
+    err_console.print(f"[bold red]error:[/] {message}", highlight=False, soft_wrap=True)
+    raise typer.Exit(code)
+
+
+def _parse_set(items: list[str]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for item in items:
+        if "=" not in item:
+            raise ScenarioError(f"--set expects PATH=VALUE, got {item!r}")
+        key, value = item.split("=", 1)
+        out[key.strip()] = yaml.safe_load(value)
+    return out
+
+
+def _load(scenario_file: Path | None, preset: str | None, overrides: dict[str, Any]):
+    from flexride.model.presets import preset_dict
+    from flexride.model.scenario import apply_overrides, scenario_from_dict
+
+    if (scenario_file is None) == (preset is None):
+        raise ScenarioError("give either a scenario file or --preset NAME (not both)")
+    if preset is not None:
+        data = preset_dict(preset)
+        source = f"preset {preset}"
+    else:
+        if not scenario_file.is_file():
+            raise ScenarioError(f"scenario file not found: {scenario_file}")
+        text = scenario_file.read_text(encoding="utf-8")
+        try:
+            data = (
+                json.loads(text)
+                if scenario_file.suffix.lower() == ".json"
+                else yaml.safe_load(text)
+            )
+        except (json.JSONDecodeError, yaml.YAMLError) as exc:
+            raise ScenarioError(
+                f"{scenario_file}: cannot parse: {str(exc).splitlines()[0]}"
+            ) from None
+        source = scenario_file.name
+        if not isinstance(data, dict):
+            raise ScenarioError(f"{source}: a scenario must be a mapping")
+    return scenario_from_dict(apply_overrides(data, overrides), source=source)
+
+
+def run_summary(results) -> dict[str, Any]:
+    """Peaks and rms per output point and direction (car body, frames, wheelsets)."""
+    rows = []
+    for name in results.names(quantity="acc"):
+        x = results.channels[name]
+        body, point, _, direction = name.split(".")
+        rows.append(
+            {
+                "channel": name,
+                "body": body,
+                "point": point,
+                "direction": direction,
+                "rms": float(np.sqrt(np.mean(x**2))) if x.size else float("nan"),
+                "peak": float(np.max(np.abs(x))) if x.size else float("nan"),
+                "unit": results.units.get(name, ""),
+            }
+        )
+    comfort: dict[str, Any] = {}
+    try:
+        from flexride.analysis import analyze
+
+        comfort = analyze(results).to_dict()
+    except ImportError:  # analysis layer not installed in this build
+        comfort = {}
+    return {
+        "scenario": results.scenario.get("name"),
+        "speed_kmh": results.meta.get("speed_kmh"),
+        "duration_s": float(results.time[-1]) if results.time.size else 0.0,
+        "output_rate_hz": results.meta.get("output_rate"),
+        "wall_time_solve_s": results.meta.get("wall_time_solve_s"),
+        "accelerations": rows,
+        "comfort": comfort,
+    }
+
+
+def _print_summary(summary: dict[str, Any]) -> None:
+    table = Table(
+        title=f"{summary['scenario']} — {summary['speed_kmh']:g} km/h, "
+        f"{summary['duration_s']:.2f} s, output {summary['output_rate_hz']:g} Hz"
+    )
+    table.add_column("body")
+    table.add_column("point")
+    table.add_column("dir")
+    table.add_column("rms (m/s²)", justify="right")
+    table.add_column("peak (m/s²)", justify="right")
+    for r in summary["accelerations"]:
+        table.add_row(r["body"], r["point"], r["direction"], f"{r['rms']:.4f}", f"{r['peak']:.4f}")
+    console.print(table)
+
+
+@app.command()
+def run(
+    scenario_file: Annotated[Path | None, typer.Argument(help="Scenario YAML/JSON file")] = None,
+    preset: Annotated[str | None, typer.Option("--preset", "-p", help="Preset name")] = None,
+    output: Annotated[Path, typer.Option("--output", "-o", help="HDF5 results file")] = Path(
+        "results.h5"
+    ),
+    duration: Annotated[float | None, typer.Option(help="Override the simulated time (s)")] = None,
+    speed: Annotated[float | None, typer.Option(help="Override the running speed (km/h)")] = None,
+    set_: Annotated[
+        list[str] | None,
+        typer.Option("--set", help="Override any field: PATH=VALUE, e.g. solver.dt=5e-5"),
+    ] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON")] = False,
+) -> None:
+    """Simulate a scenario or preset, write the HDF5 file and print a summary."""
+    from flexride.solver.simulate import simulate
+
+    try:
+        overrides = _parse_set(set_ or [])
+        if duration is not None:
+            overrides["duration_s"] = duration
+            overrides["distance_m"] = None
+        if speed is not None:
+            overrides["speed_kmh"] = speed
+        scenario = _load(scenario_file, preset, overrides)
+        if as_json or not sys.stderr.isatty():
+            results = simulate(scenario)
+        else:
+            with Progress(
+                TextColumn("[bold]{task.description}"),
+                BarColumn(),
+                TextColumn("{task.percentage:>5.1f}%"),
+                TimeElapsedColumn(),
+                TimeRemainingColumn(),
+                TextColumn("{task.fields[msg]}"),
+                console=err_console,
+                transient=True,
+            ) as bar:
+                task = bar.add_task(scenario.name, total=1.0, msg="")
+                results = simulate(
+                    scenario, progress=lambda f, m: bar.update(task, completed=f, msg=m)
+                )
+        path = results.write_hdf5(output)
+    except FlexrideError as exc:
+        _fail(str(exc))
+    summary = run_summary(results)
+    summary["output_file"] = str(path)
+    if as_json:
+        typer.echo(json.dumps(summary, indent=2, default=float))
+    else:
+        _print_summary(summary)
+        if summary["comfort"]:
+            from flexride.analysis import summary_table
+
+            console.print(summary_table(summary["comfort"]))
+        console.print(
+            f"results written to [bold]{path}[/] (solver {summary['wall_time_solve_s']:.2f} s wall)"
+        )
+
+
+@app.command()
+def presets(as_json: Annotated[bool, typer.Option("--json")] = False) -> None:
+    """List the named scenarios."""
+    from flexride.model.presets import PRESETS
+
+    rows = [
+        {"name": k, "description": v.get("description", ""), "speed_kmh": v.get("speed_kmh")}
+        for k, v in PRESETS.items()
+    ]
+    if as_json:
+        typer.echo(json.dumps(rows, indent=2))
+        return
+    table = Table(title="flexride presets")
+    table.add_column("name")
+    table.add_column("km/h", justify="right")
+    table.add_column("description")
+    for r in rows:
+        table.add_row(r["name"], f"{r['speed_kmh']:g}", r["description"])
+    console.print(table)
+
+
+@app.command()
+def schema() -> None:
+    """Print the JSON schema of a scenario."""
+    from flexride.model.scenario import Scenario
+
+    typer.echo(json.dumps(Scenario.model_json_schema(), indent=2))
+
+
+@app.command()
+def analyze(
+    results_file: Annotated[Path, typer.Argument(help="HDF5 results file")],
+    as_json: Annotated[bool, typer.Option("--json")] = False,
+) -> None:
+    """Ride comfort and running safety of a results file."""
+    from flexride.results import Results
+
+    try:
+        from flexride.analysis import analyze as analyze_results
+        from flexride.analysis import summary_table
+
+        results = Results.read_hdf5(results_file)
+        summary = analyze_results(results)
+    except FlexrideError as exc:
+        _fail(str(exc))
+    if as_json:
+        typer.echo(json.dumps(summary.to_dict(), indent=2, default=float))
+    else:
+        console.print(summary_table(summary))
+
+
+def main() -> None:
+    """Entry point of the ``flexride`` command."""
+    app()
+
+
+if __name__ == "__main__":
+    main()
