@@ -75,10 +75,38 @@ def format_validation_error(exc: ValidationError, source: str = "scenario") -> s
     return "; ".join(lines)
 
 
+def deep_merge(base: dict[str, Any], update: dict[str, Any]) -> dict[str, Any]:
+    """``base`` updated by ``update``, recursively for nested mappings (lists are replaced)."""
+    out = dict(base)
+    for key, value in update.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = deep_merge(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+def resolve_preset_base(data: dict[str, Any]) -> dict[str, Any]:
+    """A scenario mapping may start from a preset: ``preset: NAME`` plus the fields to change."""
+    if "preset" not in data:
+        return data
+    from flexride.model.presets import preset_dict
+
+    rest = {k: v for k, v in data.items() if k != "preset"}
+    base = preset_dict(str(data["preset"]))
+    if "duration_s" in rest or "distance_m" in rest:
+        base = {k: v for k, v in base.items() if k not in ("duration_s", "distance_m")}
+    return deep_merge(base, rest)
+
+
 def scenario_from_dict(data: dict[str, Any], source: str = "scenario") -> Scenario:
-    """Validate a mapping into a :class:`Scenario`, raising :class:`ScenarioError` on failure."""
+    """Validate a mapping into a :class:`Scenario`, raising :class:`ScenarioError` on failure.
+
+    The mapping may name a ``preset`` to start from (see :func:`resolve_preset_base`).
+    """
     if not isinstance(data, dict):
         raise ScenarioError(f"{source}: a scenario must be a mapping, got {type(data).__name__}")
+    data = resolve_preset_base(data)
     try:
         return Scenario.model_validate(data)
     except ValidationError as exc:

@@ -1,0 +1,136 @@
+"""Solver performance on the reference case (prints figures; not a timed test).
+
+Reference case: paper vehicle, rigid bodies, straight track, German high disturbance, 80 km/h,
+10 s simulated, Δt = 1e-4 s (preset ``paper-metro-random``). Prints
+
+* compile time, cold (empty numba cache) and cached, measured in fresh processes;
+* wall time per simulated second and per step;
+* time per step split into vehicle / rail / contact force evaluation and the integrator update;
+* the cost per simulated second of a route 10× longer (100 s instead of 10 s).
+
+Usage: ``python benchmarks/bench_solver.py [--quick]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numba
+import numpy as np
+
+TARGET_S_PER_10S = 1.0
+
+
+def _fresh_process_time(cache_dir: str) -> float:
+    code = (
+        "import time; t=time.perf_counter();"
+        "from flexride.model.presets import load_preset;"
+        "from flexride.solver.simulate import simulate;"
+        "simulate(load_preset('paper-metro-random', {'duration_s': 0.01}));"
+        "print(time.perf_counter()-t)"
+    )
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         check=True)
+    return float(out.stdout.strip().splitlines()[-1])
+
+
+def _part_timings(asm, X0, s0, n=20000):
+    from flexride.solver.forces import contact_forces, rail_forces, vehicle_forces
+    from flexride.solver.kernel import zhai_update
+
+    @numba.njit
+    def loop_vehicle(sys_, X, V, F, n):
+        for _ in range(n):
+            vehicle_forces(sys_, X, V, 10.0, F)
+
+    @numba.njit
+    def loop_rail(sys_, X, V, F, n):
+        for _ in range(n):
+            rail_forces(sys_, X, V, F)
+
+    @numba.njit
+    def loop_contact(sys_, X, V, F, aux, sn, cst, s0, n):
+        for _ in range(n):
+            contact_forces(sys_, X, V, 10.0, s0, F, aux, sn, cst, 1e-4)
+
+    @numba.njit
+    def loop_update(X, V, A, Ap, n):
+        for _ in range(n):
+            zhai_update(X, V, A, Ap, 1e-4, 0.5, 0.5)
+
+    from flexride.solver.linearise import workspace
+
+    F, A, aux, sn, cst = workspace(asm.sys)
+    X = X0.copy()
+    V = np.zeros_like(X)
+    out = {}
+    for name, fn, args in (
+        ("vehicle", loop_vehicle, (asm.sys, X, V, F)),
+        ("rail", loop_rail, (asm.sys, X, V, F)),
+        ("contact", loop_contact, (asm.sys, X, V, F, aux, sn, cst, s0)),
+        ("integrator update", loop_update, (X.copy(), V.copy(), np.zeros_like(X),
+                                            np.zeros_like(X))),
+    ):
+        fn(*args, 10)  # compile
+        t = time.perf_counter()
+        fn(*args, n)
+        out[name] = (time.perf_counter() - t) / n
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="skip the cold-compile and long-route runs")
+    args = parser.parse_args()
+
+    from flexride.model.presets import load_preset
+    from flexride.solver.assemble import assemble
+    from flexride.solver.simulate import simulate
+    from flexride.solver.static import initial_window_start, static_equilibrium
+
+    print("flexride solver benchmark — reference case paper-metro-random (80 km/h, dt 1e-4 s)")
+    print(f"machine: {os.cpu_count()} cores, numba {numba.__version__}, numpy {np.__version__}")
+    if not args.quick:
+        with tempfile.TemporaryDirectory() as d:
+            cold = _fresh_process_time(d)
+            cached = _fresh_process_time(d)
+        print(f"import + compile + 0.01 s run, cold cache : {cold:7.2f} s")
+        print(f"import + compile + 0.01 s run, cached     : {cached:7.2f} s")
+
+    simulate(load_preset("paper-metro-random", {"duration_s": 0.05}))  # warm (compiled)
+    res = simulate(load_preset("paper-metro-random", {"duration_s": 10.0}))
+    solve = res.meta["wall_time_solve_s"]
+    steps = res.meta["n_steps"]
+    print(f"setup (assembly, statics, stability)      : {res.meta['wall_time_setup_s']:7.3f} s")
+    print(f"solve 10 s simulated                      : {solve:7.3f} s  "
+          f"(target ≤ {TARGET_S_PER_10S:.1f} s: {'met' if solve <= TARGET_S_PER_10S else 'MISSED'}"
+          f", ratio {solve / TARGET_S_PER_10S:.2f})")
+    print(f"wall time per simulated second            : {solve / 10.0:7.4f} s")
+    print(f"time per step                             : {solve / steps * 1e6:7.2f} µs  "
+          f"({res.meta['n_dof']} coordinates, {res.meta['rail_modes_per_direction']} rail modes "
+          "per rail and direction)")
+
+    asm = assemble(load_preset("paper-metro-random", {"duration_s": 1.0}))
+    s0 = initial_window_start(asm)
+    X0 = static_equilibrium(asm, 0.0, s0)
+    parts = _part_timings(asm, X0, s0)
+    total = sum(parts.values())
+    for name, t in parts.items():
+        print(f"  {name:<20s}: {t * 1e6:6.2f} µs/step ({100 * t / total:4.1f} %)")
+
+    if not args.quick:
+        long = simulate(load_preset("paper-metro-random", {"duration_s": 100.0}))
+        per_s_short = solve / 10.0
+        per_s_long = long.meta["wall_time_solve_s"] / 100.0
+        print(f"route 10× longer (100 s): {per_s_long:.4f} s per simulated second, "
+              f"ratio to the 10 s route {per_s_long / per_s_short:.2f}")
+
+
+if __name__ == "__main__":
+    main()
