@@ -31,7 +31,7 @@ def test_round_trip(tmp_path):
 def test_failed_write_leaves_nothing(tmp_path, monkeypatch):
     r = _results()
     r.channels["bad"] = object()  # not storable
-    with pytest.raises(Exception):
+    with pytest.raises(TypeError):
         r.write_hdf5(tmp_path / "r.h5")
     assert list(tmp_path.iterdir()) == []
 

@@ -11,6 +11,7 @@ rigid and flexible vehicle models share one code path.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -79,6 +80,9 @@ class ModalBody:
     is_wheelset : bool
         Wheelsets carry wheel-rail contact and spin gyroscopics; their pitch coordinate is the
         spin perturbation.
+    shape_at : callable, optional
+        For flexible bodies: position relative to the CG (m) → (6, n_elastic) elastic mode
+        shapes there; used for markers added without explicit shapes.
     """
 
     name: str
@@ -92,6 +96,7 @@ class ModalBody:
     markers: dict[str, np.ndarray] = field(default_factory=dict)
     marker_positions: dict[str, np.ndarray] = field(default_factory=dict)
     is_wheelset: bool = False
+    shape_at: Callable[[np.ndarray], np.ndarray] | None = None
 
     @property
     def n_elastic(self) -> int:
@@ -142,6 +147,12 @@ class ModalBody:
             raise ValueError(f"marker {name!r} already exists on body {self.name!r}")
         pos = np.asarray(position, dtype=float)
         phi = rigid_marker_matrix(pos, self.n_dof, lock_pitch=lock_pitch)
+        if elastic is None and self.n_elastic > 0 and name in self.elastic_shapes:
+            elastic = self.elastic_shapes[name]
+        if elastic is None and self.n_elastic > 0:
+            if self.shape_at is None:
+                raise ValueError(f"flexible body {self.name!r} needs shapes for marker {name!r}")
+            elastic = np.asarray(self.shape_at(pos), dtype=float)
         if elastic is not None:
             if elastic.shape != (6, self.n_elastic):
                 raise ValueError(

@@ -136,6 +136,8 @@ def run(
         list[str] | None,
         typer.Option("--set", help="Override any field: PATH=VALUE, e.g. solver.dt=5e-5"),
     ] = None,
+    body_model: Annotated[str | None, typer.Option(
+        "--body-model", help="rigid or flexible: switches the car body and both frames")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON")] = False,
 ) -> None:
     """Simulate a scenario or preset, write the HDF5 file and print a summary."""
@@ -148,6 +150,11 @@ def run(
             overrides["distance_m"] = None
         if speed is not None:
             overrides["speed_kmh"] = speed
+        if body_model is not None:
+            if body_model not in ("rigid", "flexible"):
+                raise ScenarioError(f"--body-model must be rigid or flexible, got {body_model!r}")
+            overrides["bodies.carbody.model"] = body_model
+            overrides["bodies.frames.model"] = body_model
         scenario = _load(scenario_file, preset, overrides)
         if as_json or not sys.stderr.isatty():
             results = simulate(scenario)

@@ -33,7 +33,7 @@ def make_results(
     v = speed_kmh / 3.6
     scale = speed_kmh / 80.0
     delays = delays if delays is not None else {
-        "PR": 0.0, "PFB": 0.0, "PC": 0.25, "PRB": 0.5, "PLA": 0.5, "PRA": 0.5}
+        "PR": 0.0, "PFB": 0.0, "PC": 1.0 / 3.0, "PRB": 0.5, "PLA": 0.5, "PRA": 0.5}
     spec = np.fft.rfft(rng.standard_normal(n + round(2 * fs)))
     f = np.fft.rfftfreq(n + round(2 * fs), 1 / fs)
     spec[(f < 0.5) | (f > 20.0)] = 0.0

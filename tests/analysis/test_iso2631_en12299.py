@@ -40,7 +40,9 @@ def test_weighted_rms_of_sine(weighting, f0, method):
     """rms of a weighted sine = A/√2 · |W(f)| (whole record, start-up transient included)."""
     amp = 0.5
     expected = amp / math.sqrt(2) * abs(weighting_response(weighting, f0))
-    got = weighted_rms(sine(f0, amp), FS, weighting, method=method)
+    res = weighted_rms(sine(f0, amp), FS, weighting, method=method)
+    assert res.weighting == weighting and res.standard.startswith("ISO 2631")
+    got = float(res)
     tol = 0.003 if method == "fft" or f0 <= 16 else 0.017  # iir at 500 Hz: see weighting docs
     assert got == pytest.approx(expected, rel=tol)
 
@@ -48,7 +50,7 @@ def test_weighted_rms_of_sine(weighting, f0, method):
 def test_weighted_rms_2d_and_unweighted():
     x = np.vstack([sine(4.0, 1.0, 20.0), sine(4.0, 2.0, 20.0)])
     w = weighted_rms(x, FS, "Wb")
-    assert w[1] == pytest.approx(2 * w[0])
+    assert w.value[1] == pytest.approx(2 * w.value[0]) and "EN 12299" in w.standard
     assert rms(sine(4.0, 1.0, 20.0)) == pytest.approx(1 / math.sqrt(2), rel=1e-6)
 
 
@@ -119,7 +121,8 @@ def test_mean_comfort_percentile_rule_and_windows():
     """Nearest rank: the 57th of 60 block values; one N_MV per complete 5 min window."""
     fs, nb = 250.0, 1250
     rng = np.random.default_rng(7)
-    levels = np.concatenate([rng.permutation(np.arange(1, 61)), 2 * rng.permutation(np.arange(1, 61))])
+    levels = np.concatenate([rng.permutation(np.arange(1, 61)),
+                             2 * rng.permutation(np.arange(1, 61))])
     levels = np.concatenate([levels, [1.0] * 30])  # 150 s left over
     w = np.repeat(levels * 0.01, nb)  # block rms = level · 0.01 exactly (constant blocks)
     res = mean_comfort(fs, z=np.zeros_like(w), weighted={"z": w})
@@ -127,7 +130,8 @@ def test_mean_comfort_percentile_rule_and_windows():
     assert res.windows[0]["a_zp95"] == pytest.approx(0.57)
     assert res.windows[1]["a_zp95"] == pytest.approx(1.14)
     assert res.value == pytest.approx(6 * 1.14) and res.unused_s == pytest.approx(150.0)
-    short = mean_comfort(fs, z=np.zeros(15 * nb), weighted={"z": np.repeat(np.arange(1, 16) * 0.01, nb)})
+    short = mean_comfort(fs, z=np.zeros(15 * nb),
+                         weighted={"z": np.repeat(np.arange(1, 16) * 0.01, nb)})
     assert short.short_run and short.windows[0]["n_blocks"] == 15
     assert short.windows[0]["a_zp95"] == pytest.approx(0.15)  # < 20 blocks: the largest
     assert "SHORT RUN" in short.method

@@ -39,6 +39,7 @@ def test_sine_found_at_frequency_and_amplitude(window):
     peaks = dominant_peaks(s, n=3, rel_prominence=0.2)
     assert peaks[0].frequency == pytest.approx(f0)
     assert peaks[0].value == pytest.approx(amp, rel=0.01)
+    assert peaks[0].amplitude == peaks[0].value
     assert len(peaks) == 1
 
 
@@ -58,7 +59,9 @@ def test_welch_sine_power():
     p = welch_psd(amp * np.sin(2 * np.pi * f0 * t), fs)
     band = np.abs(p.frequencies - f0) < 1.0
     assert np.sum(p.values[band]) * p.resolution_hz == pytest.approx(amp**2 / 2, rel=1e-3)
-    assert dominant_peaks(p, n=1)[0].frequency == pytest.approx(f0)
+    peak = dominant_peaks(p, n=1)[0]
+    assert peak.frequency == pytest.approx(f0)
+    assert peak.amplitude == pytest.approx(amp, rel=1e-3)  # sine amplitude from the PSD
 
 
 def test_dominant_peaks_order_prominence_and_band():
@@ -69,8 +72,7 @@ def test_dominant_peaks_order_prominence_and_band():
     assert [round(p.frequency, 1) for p in peaks] == [6.3, 17.6]
     assert peaks[0].prominence == pytest.approx(1.0, rel=1e-3)
     assert len(dominant_peaks((f, v), rel_prominence=0.01)) == 3
-    assert [p.frequency for p in dominant_peaks((f, v), band_hz=(10, 40))][0] == \
-        pytest.approx(17.6)
+    assert dominant_peaks((f, v), band_hz=(10, 40))[0].frequency == pytest.approx(17.6)
     assert dominant_peaks((f, np.zeros_like(f))) == []
 
 
@@ -83,6 +85,8 @@ def test_spectra_bad_input():
         amplitude_spectrum([], 10.0)
     with pytest.raises(AnalysisError, match="differ"):
         dominant_peaks((np.arange(3.0), np.arange(4.0)))
+    with pytest.raises(AnalysisError, match="kind"):
+        dominant_peaks((np.arange(3.0), np.arange(3.0)), kind="energy")
 
 
 def test_spectrogram_sine_steps():

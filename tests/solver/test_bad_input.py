@@ -38,7 +38,7 @@ def test_unstable_time_step_names_a_step_that_works():
 def test_malformed_csv(tmp_path):
     f = tmp_path / "irr.csv"
     f.write_text("distance_m,vertical\n0,0.001\n1,abc\n")
-    with pytest.raises(ScenarioError, match="irr.csv"):
+    with pytest.raises(ScenarioError, match=r"irr\.csv"):
         simulate(preset(duration_s=0.1, excitation=[{"kind": "measured", "path": str(f)}]))
 
 

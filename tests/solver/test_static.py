@@ -25,7 +25,7 @@ def static_state():
 
 
 def test_wheel_loads_equal_weight_shares(static_state):
-    sc, asm, _, aux = static_state
+    sc, _asm, _, aux = static_state
     v = sc.vehicle
     total = v.carbody.mass + 2 * v.frame.mass + 4 * v.wheelset.mass
     share = total * 9.81 / 8
@@ -35,7 +35,7 @@ def test_wheel_loads_equal_weight_shares(static_state):
 def test_rail_deflection_against_beam_on_elastic_foundation(static_state):
     """Winkler beam with the fastener stiffness smeared over the spacing, superposing the two
     wheels of a bogie: w(x) = P·β/(2k)·e^(−β|x|)(cos β|x| + sin β|x|)."""
-    sc, asm, _, aux = static_state
+    sc, _asm, _, aux = static_state
     tr = sc.track
     k = tr.fastener.kz / tr.fastener.spacing
     ei = tr.rail.youngs_modulus * tr.rail.iy
@@ -55,7 +55,7 @@ def test_rail_deflection_against_beam_on_elastic_foundation(static_state):
 def test_car_body_sag_from_suspension_stiffness(static_state):
     """Car-body CG sinks by its weight over the series springs (secondary, primary), the
     frames' weight over the primary, plus the wheel (Hertz + rail) compression."""
-    sc, asm, X0, aux = static_state
+    sc, asm, X0, _aux = static_state
     v = sc.vehicle
     g = 9.81
     ks = 4 * v.secondary.kz

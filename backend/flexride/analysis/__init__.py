@@ -38,6 +38,7 @@ from flexride.analysis.en12299 import (
 from flexride.analysis.iso2631 import (
     ISO2631_BANDS,
     Iso2631Result,
+    WeightedRms,
     comfort_band,
     crest_factor,
     iso2631_comfort,
@@ -141,6 +142,7 @@ __all__ = [
     "Spectrum",
     "SperlingResult",
     "Summary",
+    "WeightedRms",
     "WeightingDef",
     "amplitude_spectrum",
     "analyze",

@@ -27,6 +27,7 @@ from flexride.errors import AnalysisError
 __all__ = [
     "ISO2631_BANDS",
     "Iso2631Result",
+    "WeightedRms",
     "comfort_band",
     "crest_factor",
     "iso2631_comfort",
@@ -58,9 +59,34 @@ def rms(x: np.ndarray) -> float | np.ndarray:
     return float(r) if r.ndim == 0 else r
 
 
+@dataclass
+class WeightedRms:
+    """A frequency-weighted rms and how it was made (``float(result)`` gives the value).
+
+    Attributes
+    ----------
+    value : float or numpy.ndarray
+        a_w in m/s² (one per row for 2-D input).
+    weighting : str
+        Weighting used.
+    standard : str
+        Standard (edition) defining the weighting.
+    method : str
+        Filter realisation and averaging.
+    """
+
+    value: float | np.ndarray
+    weighting: str
+    standard: str
+    method: str
+
+    def __float__(self) -> float:
+        return float(self.value)
+
+
 def weighted_rms(
     x: np.ndarray, fs: float, weighting: str = "Wk", method: WeightingMethod = "iir"
-) -> float | np.ndarray:
+) -> WeightedRms:
     """Frequency-weighted rms a_w (m/s²) of an acceleration record.
 
     Parameters
@@ -74,10 +100,18 @@ def weighted_rms(
         vehicles, ISO 2631-4 / EN 12299), or ``"Bv"``/``"Bh"``.
     method : {"iir", "fft"}
         Filter realisation, see :func:`~flexride.analysis.weighting.apply_weighting`.
+
+    Returns
+    -------
+    WeightedRms
+        The value with the weighting and standard that produced it.
     """
     aw = apply_weighting(x, fs, weighting, method=method)
     r = np.sqrt(np.mean(aw * aw, axis=-1))
-    return float(r) if r.ndim == 0 else r
+    return WeightedRms(value=float(r) if r.ndim == 0 else r, weighting=weighting,
+                       standard=WEIGHTINGS[weighting].standard,
+                       method=f"rms over the whole record of the {weighting}-weighted "
+                              f"acceleration ({method} filter)")
 
 
 def running_rms(
@@ -261,10 +295,10 @@ def _iso_from_weighted(
 ) -> Iso2631Result:
     sq = aw_sig * aw_sig
     a_w = float(np.sqrt(np.mean(sq)))
-    raw = float(np.sqrt(np.dot(x, x) / x.size))
+    raw = float(np.sqrt(np.mean(x * x)))  # no BLAS call: its threads stall on busy machines
     _, rr = _window_rms(aw_sig, fs, max(1, round(tau * fs)), 1, sq=sq)
     m = float(rr.max())
-    v = float((np.dot(sq, sq) / fs) ** 0.25)
+    v = float((np.sum(sq * sq) / fs) ** 0.25)
     duration = x.shape[-1] / fs
     if a_w > 0.0:
         cf = float(np.max(np.abs(aw_sig)) / a_w)

@@ -16,7 +16,9 @@ Welch PSD (:func:`welch_psd`)
 Dominant peaks (:func:`dominant_peaks`)
     Interior local maxima (:func:`scipy.signal.find_peaks`) inside a band whose prominence is
     at least ``rel_prominence`` (default 10 %) of the largest spectral value in the band,
-    largest first. A spectrum falling from a band edge has no peak there.
+    largest first. A spectrum falling from a band edge has no peak there. Each peak reports its
+    frequency and the amplitude of the equivalent sine: the line value of an amplitude
+    spectrum, or √(2 Δf Σ PSD) over the peak line ± 2 lines (the Hann main lobe) of a PSD.
 """
 
 from __future__ import annotations
@@ -69,9 +71,24 @@ class Spectrum:
 
 @dataclass
 class SpectralPeak:
-    """A dominant spectral peak: frequency (Hz), spectral value and its prominence (same unit)."""
+    """A dominant spectral peak.
+
+    Attributes
+    ----------
+    frequency : float
+        Frequency of the peak line in Hz.
+    amplitude : float
+        Peak amplitude of the equivalent sine (unit of the signal): the line value for an
+        amplitude spectrum; √(2 Δf Σ PSD) over the peak line and two lines either side (the
+        Hann main lobe) for a PSD.
+    value : float
+        Spectral value at the peak (unit of the spectrum).
+    prominence : float
+        Prominence of the peak (unit of the spectrum).
+    """
 
     frequency: float
+    amplitude: float
     value: float
     prominence: float
 
@@ -165,6 +182,7 @@ def dominant_peaks(
     n: int = 5,
     rel_prominence: float = 0.1,
     band_hz: tuple[float, float] | None = None,
+    kind: str = "amplitude",
 ) -> list[SpectralPeak]:
     """Dominant peaks of a 1-D spectrum, largest first.
 
@@ -172,6 +190,9 @@ def dominant_peaks(
     ----------
     spectrum : Spectrum or (frequencies, values)
         One spectrum (1-D values).
+    kind : {"amplitude", "psd"}
+        Kind of a spectrum given as a tuple (a :class:`Spectrum` says it itself); decides how
+        :attr:`SpectralPeak.amplitude` is obtained.
     n : int
         Most peaks returned.
     rel_prominence : float
@@ -184,9 +205,11 @@ def dominant_peaks(
     list of SpectralPeak
     """
     if isinstance(spectrum, Spectrum):
-        f, v = spectrum.frequencies, spectrum.values
+        f, v, kind = spectrum.frequencies, spectrum.values, spectrum.kind
     else:
         f, v = spectrum
+    if kind not in ("amplitude", "psd"):
+        raise AnalysisError(f"spectrum kind must be 'amplitude' or 'psd', got {kind!r}")
     f = np.asarray(f, dtype=np.float64)
     v = check_signal(v, name="spectrum", min_samples=1, ndim=(1,), method="peak search")
     if f.shape != v.shape:
@@ -202,6 +225,15 @@ def dominant_peaks(
     # interior local maxima only: a slope cut by a band edge is not a peak
     idx, props = signal.find_peaks(vb, prominence=rel_prominence * vmax)
     order = np.argsort(vb[idx])[::-1][:n]
-    return [SpectralPeak(frequency=float(fb[idx[i]]), value=float(vb[idx[i]]),
-                         prominence=float(props["prominences"][i]))
-            for i in order]
+    df = float(np.mean(np.diff(f))) if f.size > 1 else 0.0
+    out = []
+    for i in order:
+        k = int(idx[i])
+        if kind == "psd":
+            lobe = vb[max(0, k - 2): k + 3]
+            amp = float(np.sqrt(2.0 * df * np.sum(lobe)))
+        else:
+            amp = float(vb[k])
+        out.append(SpectralPeak(frequency=float(fb[k]), amplitude=amp, value=float(vb[k]),
+                                prominence=float(props["prominences"][i])))
+    return out

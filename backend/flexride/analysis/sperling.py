@@ -33,12 +33,12 @@ Spectral form (DESIGN §6; Sperling, GB 5599-1985)
     spacing (W ∝ Δf^0.05) because the formula is a sum over sines, which is why the segment
     length is pinned.
 
-Filter form (DESIGN §6; UIC 513 / EN 12299 Annex, the Wz "B filter")
+Filter form (DESIGN §6; the Wz "B filter" of UIC 513)
     W = 4.42 a_w^0.3 with a_w the rms (m/s²) of the acceleration weighted by
     B_v(f) (vertical) or B_h = 1.25 B_v (lateral), realised as in
     :mod:`flexride.analysis.weighting`. For sines between 1 and 10 Hz the two forms agree to
     within about 2.5 %; for broadband random vibration the filter form is higher (by about
-    20 % at 0.2 Hz line spacing).
+    23 % for white noise at the default 0.2 Hz line spacing).
 
 Default form: **spectral** (:data:`DEFAULT_SPERLING_FORM`), as used by the paper and GB 5599.
 Every :class:`SperlingResult` names the form that produced it.
@@ -87,7 +87,7 @@ SPERLING_DEFAULTS: dict[str, Any] = {
 }
 
 _GRADES = ((2.5, "excellent"), (2.75, "good"), (3.0, "qualified"))
-_GRADE_STANDARD = "GB 5599-1985 (passenger vehicles)"
+_GRADE_STANDARD = "Sperling index (DESIGN §6); grades GB 5599-1985, passenger vehicles"
 
 
 def _direction(direction: str) -> str:

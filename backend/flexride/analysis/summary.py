@@ -533,8 +533,11 @@ def _analyze_direction(
         if cc_w not in weighted[d][p]:
             continue
         try:
-            summaries[i].continuous_comfort = continuous_comfort(
-                x[i], fs, d, method=filter_method, weighted=weighted[d][p][cc_w])
+            cc = continuous_comfort(x[i], fs, d, method=filter_method,
+                                    weighted=weighted[d][p][cc_w])
+            cc.times = cc.times + t0
+            cc.time_of_maximum += t0
+            summaries[i].continuous_comfort = cc
         except FlexrideError as exc:
             summaries[i].errors["continuous_comfort"] = _err(exc)
     # spectra of the dynamic part
@@ -545,7 +548,8 @@ def _analyze_direction(
         keep = psd.frequencies <= hi + 1e-9
         for i, s in enumerate(summaries):
             s.dominant_peaks = dominant_peaks((psd.frequencies, psd.values[i]), n=5,
-                                              rel_prominence=0.05, band_hz=(_PEAK_BAND[0], hi))
+                                              rel_prominence=0.05, band_hz=(_PEAK_BAND[0], hi),
+                                              kind="psd")
             if arrays:
                 s.psd = Spectrum(frequencies=psd.frequencies[keep], values=psd.values[i, keep],
                                  kind=psd.kind, unit=psd.unit, resolution_hz=psd.resolution_hz,
@@ -625,59 +629,89 @@ def _fmt(v: float | None, digits: int = 3) -> str:
     return f"{v:.{digits}g}" if abs(v) < 1000 else f"{v:.0f}"
 
 
-def summary_table(summary: Summary) -> Table:
-    """A :class:`rich.table.Table` of the comfort results: per point and direction the Sperling
-    index (default form) and its GB 5599 grade, the weighted rms with its ISO 2631 comfort band,
-    the largest EN 12299 C_c, the peak acceleration and (per point) N_MV."""
+def _as_dict(summary: Summary | dict[str, Any]) -> dict[str, Any]:
+    if isinstance(summary, Summary):
+        return summary.to_dict()
+    if isinstance(summary, dict) and "points" in summary and "settings" in summary:
+        return summary
+    raise AnalysisError("expected a Summary or the dictionary of Summary.to_dict()")
+
+
+def summary_table(summary: Summary | dict[str, Any]) -> Table:
+    """A :class:`rich.table.Table` of the comfort results.
+
+    Per point and direction: the Sperling index (default form) and its GB 5599 grade, the
+    weighted rms a_w (Wb for z, Wd for y/x) with its ISO 2631 comfort band, the largest EN 12299
+    C_c, the peak acceleration and, per point, N_MV (``*``: run shorter than 5 min).
+
+    Parameters
+    ----------
+    summary : Summary or dict
+        The result of :func:`analyze`, or its :meth:`Summary.to_dict`.
+    """
     from rich.table import Table
 
-    run = summary.run
+    d = _as_dict(summary)
+    run = d.get("run", {})
     title = "flexride analysis"
     if run.get("scenario"):
         title += f" — {run['scenario']}"
     if run.get("speed_kmh") is not None:
         title += f", {run['speed_kmh']:.4g} km/h"
-    form = summary.settings["sperling"]["default_form"]
-    table = Table(title=title, caption=(
-        f"W: Sperling {form} form (dynamic part), grade GB 5599 · a_w: ISO 2631 rms, Wb (z) / "
-        "Wd (y, x) · C_c: EN 12299 5 s · N_MV: EN 12299 standard method · peak: max |a| raw"))
+    form = d["settings"]["sperling"]["default_form"]
+    caption = (f"W: Sperling {form} form (dynamic part), grade GB 5599 · a_w: ISO 2631 rms, "
+               "Wb (z) / Wd (y, x) · C_c: EN 12299 5 s · N_MV: EN 12299 standard method · "
+               "peak: max |a| raw")
+    table = Table(title=title)
     for col, just in (("point", "left"), ("dir", "center"), ("W", "right"), ("grade", "left"),
                       ("a_w m/s²", "right"), ("ISO 2631 comfort", "left"),
                       ("C_c max m/s²", "right"), ("peak m/s²", "right"), ("N_MV", "right")):
         table.add_column(col, justify=just)
-    for p in summary.points.values():
+    short = False
+    for name, p in d["points"].items():
         first = True
-        for d in ("z", "y", "x"):
-            ds = p.directions.get(d)
+        mc = p.get("mean_comfort")
+        for direction in ("z", "y", "x"):
+            ds = p["directions"].get(direction)
             if ds is None:
                 continue
-            w = ds.sperling
-            iso = ds.iso2631.get(_ISO_WEIGHTINGS[d][0])
-            grade = w.grade if w is not None and isinstance(w.grade, str) else "–"
+            w = ds.get("sperling")
+            iso = ds.get("iso2631", {}).get(_ISO_WEIGHTINGS[direction][0])
+            cc = ds.get("continuous_comfort")
+            grade = w["grade"] if w and isinstance(w.get("grade"), str) else "–"
             style = {"excellent": "green", "good": "green", "qualified": "yellow",
                      "fails": "bold red"}.get(grade, "")
             nmv = ""
-            if first and p.mean_comfort is not None:
-                nmv = f"{p.mean_comfort.value:.2f}" + ("*" if p.mean_comfort.short_run else "")
+            if first and mc and mc.get("value") is not None:
+                nmv = f"{mc['value']:.2f}" + ("*" if mc.get("short_run") else "")
+                short = short or bool(mc.get("short_run"))
             table.add_row(
-                p.name if first else "", d,
-                _fmt(float(w.value)) if w is not None else "–",
+                name if first else "", direction,
+                _fmt(w["value"]) if w else "–",
                 f"[{style}]{grade}[/]" if style else grade,
-                _fmt(iso.a_w) if iso else "–", iso.comfort if iso else "–",
-                _fmt(ds.continuous_comfort.maximum) if ds.continuous_comfort else "–",
-                _fmt(float(ds.peaks.max_abs)), nmv)
+                _fmt(iso["a_w"]) if iso else "–", iso["comfort"] if iso else "–",
+                _fmt(cc["maximum"]) if cc else "–",
+                _fmt(ds["peaks"]["max_abs"]), nmv)
             first = False
-    if any(p.mean_comfort is not None and p.mean_comfort.short_run
-           for p in summary.points.values()):
-        table.caption += " · * run shorter than 5 min (see docs)"
+    if short:
+        caption += " · * run shorter than 5 min (see docs/analysis.md)"
+    table.caption = caption
     return table
 
 
-def safety_table(summary: Summary) -> Table | None:
-    """A :class:`rich.table.Table` of the running-safety indices (None without wheel forces)."""
+def safety_table(summary: Summary | dict[str, Any]) -> Table | None:
+    """A :class:`rich.table.Table` of the running-safety indices (None without wheel forces).
+
+    Parameters
+    ----------
+    summary : Summary or dict
+        The result of :func:`analyze`, or its :meth:`Summary.to_dict`.
+    """
     from rich.table import Table
 
-    if summary.safety is None:
+    d = _as_dict(summary)
+    safety = d.get("safety")
+    if not safety:
         return None
     table = Table(title="running safety", caption=(
         "Q/P, ΔP/P: GB 5599 limits 1.2, 0.65 · ΣY: EN 14363 10 + P0/3 kN · 20 Hz low pass, "
@@ -687,8 +721,9 @@ def safety_table(summary: Summary) -> Table | None:
         table.add_column(col, justify=just)
     label = {"derailment_coefficient": "Q/P", "wheel_unloading": "ΔP/P",
              "wheelset_lateral_force": "ΣY kN"}
-    for idx in summary.safety.indices:
-        table.add_row(idx.location, label.get(idx.name, idx.name), _fmt(idx.value),
-                      _fmt(idx.limit), f"{idx.utilisation:.0%}",
-                      "[green]ok[/]" if idx.passed else "[bold red]exceeded[/]")
+    for idx in safety["indices"]:
+        use = idx.get("utilisation")
+        table.add_row(idx["location"], label.get(idx["name"], idx["name"]), _fmt(idx["value"]),
+                      _fmt(idx["limit"]), f"{use:.0%}" if use is not None else "–",
+                      "[green]ok[/]" if idx["passed"] else "[bold red]exceeded[/]")
     return table

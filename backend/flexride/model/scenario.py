@@ -11,6 +11,7 @@ from pydantic import Field, ValidationError, model_validator
 
 from flexride.errors import ScenarioError
 from flexride.model.base import Schema
+from flexride.model.bodies import BodyModels
 from flexride.model.contact import Contact
 from flexride.model.excitation import Excitation
 from flexride.model.line import Line, StraightLine
@@ -35,6 +36,9 @@ class Scenario(Schema):
     speed_kmh: float = Field(..., gt=0.0, le=200.0, description="Running speed (km/h)")
     duration_s: float | None = Field(None, gt=0.0, le=3600.0, description="Simulated time (s)")
     distance_m: float | None = Field(None, gt=0.0, le=1.0e5, description="Distance to run (m)")
+    bodies: BodyModels = Field(
+        default_factory=BodyModels, description="Rigid or flexible car body and bogie frames"
+    )
     solver: Solver = Field(default_factory=Solver)
     output: Output = Field(default_factory=Output)
 

@@ -71,5 +71,10 @@ class Output(Schema):
         default_factory=list,
         description="User-defined car-body points in addition to PR, PFB, PC, PRB, PLA, PRA",
     )
+    floor_grid_spacing_m: float | None = Field(
+        None, ge=0.2, le=5.0,
+        description="Record the vertical and lateral floor acceleration on a grid of this spacing "
+        "(m) for comfort maps (channels carbody.F<i>_<j>.acc.*); none when omitted",
+    )
     floor_height_m: float = Field(1.10, ge=0.0, le=3.0, description="Floor height above TOR (m)")
     roof_height_m: float = Field(3.80, ge=0.5, le=5.0, description="Roof height above TOR (m)")

@@ -93,6 +93,31 @@ def _irregularity(scenario: Scenario, length: float) -> IrregularityProfile:
     return total
 
 
+def vehicle_for(scenario: Scenario) -> VehicleModel:
+    """The vehicle of ``scenario``: rigid bodies, or flexible car body and/or frames built from
+    their reduced finite-element models (cached by content hash in :mod:`flexride.fem`)."""
+    bm = scenario.bodies
+    carbody = frames = None
+    if bm.carbody.model == "flexible" or bm.frames.model == "flexible":
+        from flexride.fem.flexible import build_flexible_body
+    if bm.carbody.model == "flexible":
+        c = bm.carbody
+        carbody = build_flexible_body("carbody", scenario.vehicle, method=c.reduction,
+                                      cutoff_hz=c.cutoff_hz, damping_ratio=c.damping_ratio,
+                                      element_size=c.element_size_m, name="carbody",
+                                      x_ref=0.0).body
+    if bm.frames.model == "flexible":
+        f = bm.frames
+        lc = scenario.vehicle.geometry.bogie_centre_spacing / 2.0
+        frames = tuple(
+            build_flexible_body("frame", scenario.vehicle, method=f.reduction,
+                                cutoff_hz=f.cutoff_hz, damping_ratio=f.damping_ratio,
+                                element_size=f.element_size_m, name=f"frame{i + 1}",
+                                x_ref=x).body
+            for i, x in enumerate((lc, -lc)))
+    return build_vehicle(scenario.vehicle, scenario.output, carbody=carbody, frames=frames)
+
+
 def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembly:
     """Build the SystemArrays of ``scenario``.
 
@@ -103,7 +128,7 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     vehicle : VehicleModel, optional
         A prebuilt vehicle (e.g. with flexible bodies); built from the scenario otherwise.
     """
-    veh = vehicle or build_vehicle(scenario.vehicle, scenario.output)
+    veh = vehicle or vehicle_for(scenario)
     bodies = veh.bodies
     nb = len(bodies)
     ndof = np.array([b.n_dof for b in bodies], dtype=np.int64)

@@ -120,10 +120,12 @@ def integrate(
     t_start: float | None = None,
     t_ready: float | None = None,
     X_ref: np.ndarray | None = None,
+    final_state: dict | None = None,
 ) -> Results:
     """Integrate from the state (X0, V0) at t = 0 and collect the results.
 
-    ``X_ref`` (default ``X0``) is the reference for displacement channels and runaway checks.
+    ``X_ref`` (default ``X0``) is the reference for displacement channels and runaway checks;
+    ``final_state``, if given, receives the final ``X`` and ``V``.
     """
     t_start = time.perf_counter() if t_start is None else t_start
     t_ready = time.perf_counter() if t_ready is None else t_ready
@@ -211,6 +213,9 @@ def integrate(
         if status == STATUS_FULL:
             break
     t_end = time.perf_counter()
+    if final_state is not None:
+        final_state["X"] = X.copy()
+        final_state["V"] = V.copy()
     k = int(tstate[S.T_NREC])
     channels = {name: np.ascontiguousarray(rec[:k, i]) for i, name in enumerate(asm.channel_names)}
     units = dict(zip(asm.channel_names, asm.channel_units, strict=True))

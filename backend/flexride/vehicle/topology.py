@@ -65,6 +65,21 @@ def _six(k3: tuple[float, float, float], kr: tuple[float, float, float] = (0.0, 
     return np.array([*k3, *kr], dtype=float)
 
 
+#: Extent of the floor used for comfort-map grids (half length, half width) (m).
+FLOOR_HALF_LENGTH = 9.0
+FLOOR_HALF_WIDTH = 1.2
+
+
+def floor_grid(spacing: float) -> list[tuple[str, tuple[float, float]]]:
+    """Names ``F<i>_<j>`` and (x, y) positions (m) of a floor grid with the given spacing."""
+    nx = int(np.floor(2 * FLOOR_HALF_LENGTH / spacing + 1e-9)) + 1
+    ny = int(np.floor(2 * FLOOR_HALF_WIDTH / spacing + 1e-9)) + 1
+    xs = np.linspace(-FLOOR_HALF_LENGTH, FLOOR_HALF_LENGTH, nx)
+    ys = np.linspace(-FLOOR_HALF_WIDTH, FLOOR_HALF_WIDTH, ny) if ny > 1 else np.zeros(1)
+    return [(f"F{i}_{j}", (float(x), float(y))) for i, x in enumerate(xs)
+            for j, y in enumerate(ys)]
+
+
 def paper_point_positions(params: Vehicle, output: Output) -> list[OutputPoint]:
     """The paper's points PR, PFB, PC, PRB, PLA, PRA in car-body coordinates (DESIGN §5)."""
     lc = params.geometry.bogie_centre_spacing / 2.0
@@ -260,6 +275,11 @@ def build_vehicle(
         marker = f"point.{pt.name}"
         carbody_body.add_marker(marker, (pt.x, pt.y, pt.z - carbody_body.cg_height))
         points.append((pt.name, ic, marker))
+    if output.floor_grid_spacing_m:
+        for name, (x, y) in floor_grid(output.floor_grid_spacing_m):
+            marker = f"point.{name}"
+            carbody_body.add_marker(marker, (x, y, output.floor_height_m - carbody_body.cg_height))
+            points.append((name, ic, marker))
     for i in (*i_frames, *i_ws):
         b = bodies[i]
         b.add_marker("centre", (0.0, 0.0, 0.0), lock_pitch=b.is_wheelset)

@@ -1,0 +1,31 @@
+"""Per-body modelling choice: rigid, or flexible from a reduced finite-element model."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from flexride.model.base import Schema
+
+
+class BodyModel(Schema):
+    """How one body (or both bogie frames) is modelled."""
+
+    model: Literal["rigid", "flexible"] = Field("rigid", description="Rigid or flexible body")
+    reduction: Literal["modal", "guyan", "craig-bampton"] = Field(
+        "modal", description="Reduction of the FE model (free-interface modal truncation, Guyan, "
+        "Craig–Bampton)")
+    cutoff_hz: float = Field(100.0, gt=1.0, le=500.0,
+                             description="Highest elastic mode frequency kept (Hz)")
+    damping_ratio: float = Field(0.02, ge=0.0, le=0.5,
+                                 description="Modal damping ratio of the elastic modes (-)")
+    element_size_m: float = Field(0.2, ge=0.05, le=1.0,
+                                  description="Finite-element size of the generated mesh (m)")
+
+
+class BodyModels(Schema):
+    """Modelling choice for the car body and the bogie frames (wheelsets are always rigid)."""
+
+    carbody: BodyModel = Field(default_factory=BodyModel)
+    frames: BodyModel = Field(default_factory=BodyModel)
