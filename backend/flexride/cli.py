@@ -95,8 +95,8 @@ def run_summary(results) -> dict[str, Any]:
         from flexride.analysis import analyze
 
         comfort = analyze(results).to_dict()
-    except ImportError:  # analysis layer not installed in this build
-        comfort = {}
+    except FlexrideError as exc:  # e.g. a run without car-body channels
+        comfort = {"error": str(exc)}
     return {
         "scenario": results.scenario.get("name"),
         "speed_kmh": results.meta.get("speed_kmh"),
@@ -182,10 +182,13 @@ def run(
         typer.echo(json.dumps(summary, indent=2, default=float))
     else:
         _print_summary(summary)
-        if summary["comfort"]:
-            from flexride.analysis import summary_table
+        if summary["comfort"] and "error" not in summary["comfort"]:
+            from flexride.analysis import safety_table, summary_table
 
             console.print(summary_table(summary["comfort"]))
+            safety = safety_table(summary["comfort"])
+            if safety is not None:
+                console.print(safety)
         console.print(
             f"results written to [bold]{path}[/] (solver {summary['wall_time_solve_s']:.2f} s wall)"
         )
@@ -230,7 +233,7 @@ def analyze(
 
     try:
         from flexride.analysis import analyze as analyze_results
-        from flexride.analysis import summary_table
+        from flexride.analysis import safety_table, summary_table
 
         results = Results.read_hdf5(results_file)
         summary = analyze_results(results)
@@ -240,6 +243,9 @@ def analyze(
         typer.echo(json.dumps(summary.to_dict(), indent=2, default=float))
     else:
         console.print(summary_table(summary))
+        safety = safety_table(summary)
+        if safety is not None:
+            console.print(safety)
 
 
 def main() -> None:

@@ -59,3 +59,9 @@ class AnalysisError(FlexrideError, ValueError):
 
 class ResultsFileError(FlexrideError):
     """A results file is missing, unreadable or not a flexride file."""
+
+
+class FEModelError(FlexrideError, ValueError):
+    """A finite-element model is unusable: an input file is unreadable or inconsistent
+    (non-symmetric or wrongly sized matrices, missing nodes, negative mass) or the model has
+    mechanisms."""

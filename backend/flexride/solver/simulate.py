@@ -37,6 +37,24 @@ def _static_wheel_loads(asm: Assembly, X0: np.ndarray, s_win0: float) -> list[li
     return [[float(aux[w, 0, S.AUX_FZ]), float(aux[w, 1, S.AUX_FZ])] for w in range(aux.shape[0])]
 
 
+def preflight(scenario: Scenario, vehicle: VehicleModel | None = None) -> dict:
+    """Check a scenario without running it: assembly, static equilibrium and the time-step
+    stability limit (raises :class:`~flexride.errors.StabilityError` with a step that works).
+
+    Returns
+    -------
+    dict
+        ``n_dof``, ``n_steps``, ``output_rate`` (Hz), ``stability`` (see
+        :func:`~flexride.solver.stability.stability_limit`) and ``static_wheel_loads`` (N).
+    """
+    asm = assemble(scenario, vehicle=vehicle)
+    s_win0 = initial_window_start(asm, 0.0)
+    X0 = static_equilibrium(asm, 0.0, s_win0)
+    stab = check_stability(asm, X0, 0.0, s_win0)
+    return {"n_dof": int(X0.size), "n_steps": int(asm.n_steps), "output_rate": asm.output_rate,
+            "stability": stab, "static_wheel_loads": _static_wheel_loads(asm, X0, s_win0)}
+
+
 def simulate(
     scenario: Scenario,
     progress: ProgressCallback | None = None,
