@@ -53,7 +53,7 @@ class ShiftInvert:
         self.sigma = float(sigma)
         self.n = A.shape[0]
         try:
-            self.lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+            self.lu = spla.splu(A, permc_spec="COLAMD")
         except RuntimeError as exc:  # singular
             raise FEModelError(
                 f"stiffness matrix is singular at shift {sigma:g} rad²/s² ({exc}); the model "

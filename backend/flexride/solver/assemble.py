@@ -93,28 +93,29 @@ def _irregularity(scenario: Scenario, length: float) -> IrregularityProfile:
     return total
 
 
+def _flexible(kind: str, scenario: Scenario, settings, name: str, x_ref: float):
+    from flexride.fem.flexible import build_flexible_body
+
+    fb = build_flexible_body(kind, scenario.vehicle, method=settings.reduction,
+                             cutoff_hz=settings.cutoff_hz, damping_ratio=settings.damping_ratio,
+                             element_size=settings.element_size_m, name=name, x_ref=x_ref)
+    body = fb.body
+    if body.shape_at is None:
+        body.shape_at = fb.shape_at  # markers anywhere: elastic shapes at the nearest node
+    return body
+
+
 def vehicle_for(scenario: Scenario) -> VehicleModel:
     """The vehicle of ``scenario``: rigid bodies, or flexible car body and/or frames built from
     their reduced finite-element models (cached by content hash in :mod:`flexride.fem`)."""
     bm = scenario.bodies
     carbody = frames = None
-    if bm.carbody.model == "flexible" or bm.frames.model == "flexible":
-        from flexride.fem.flexible import build_flexible_body
     if bm.carbody.model == "flexible":
-        c = bm.carbody
-        carbody = build_flexible_body("carbody", scenario.vehicle, method=c.reduction,
-                                      cutoff_hz=c.cutoff_hz, damping_ratio=c.damping_ratio,
-                                      element_size=c.element_size_m, name="carbody",
-                                      x_ref=0.0).body
+        carbody = _flexible("carbody", scenario, bm.carbody, "carbody", 0.0)
     if bm.frames.model == "flexible":
-        f = bm.frames
         lc = scenario.vehicle.geometry.bogie_centre_spacing / 2.0
-        frames = tuple(
-            build_flexible_body("frame", scenario.vehicle, method=f.reduction,
-                                cutoff_hz=f.cutoff_hz, damping_ratio=f.damping_ratio,
-                                element_size=f.element_size_m, name=f"frame{i + 1}",
-                                x_ref=x).body
-            for i, x in enumerate((lc, -lc)))
+        frames = (_flexible("frame", scenario, bm.frames, "frame1", lc),
+                  _flexible("frame", scenario, bm.frames, "frame2", -lc))
     return build_vehicle(scenario.vehicle, scenario.output, carbody=carbody, frames=frames)
 
 

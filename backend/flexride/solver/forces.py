@@ -103,6 +103,20 @@ def _lerp_or_zero(row, s0, ds, s):
     return row[i] + f * (row[i + 1] - row[i])
 
 
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def _dot(a, b):
+    acc = 0.0
+    for j in range(a.shape[0]):
+        acc += a[j] * b[j]
+    return acc
+
+
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def _axpy(alpha, x, y):
+    for j in range(x.shape[0]):
+        y[j] += alpha * x[j]
+
+
 @numba.njit(cache=True, fastmath=_FM)
 def frame_specific_force(sys, s):
     """Specific force (m/s²) a body following the track frame at ``s`` needs: (lateral,
@@ -197,23 +211,21 @@ def vehicle_forces(sys, X, V, s, F):
         gd0 = speed * (-ddh * yb)
         gd1 = speed * (cra * ddyh + ddh * xb - ddphi * zb)
         gd2 = speed * (-sra * ddyh + ddphi * yb)
+        xa = X[oa:oa + na]
+        vva = V[oa:oa + na]
+        fa = F[oa:oa + na]
+        xb_ = X[ob:ob + nbd]
+        vvb = V[ob:ob + nbd]
+        fb = F[ob:ob + nbd]
         for r in range(6):
             kr = sys.el_k[e, r]
             cr = sys.el_c[e, r]
             if kr == 0.0 and cr == 0.0:
                 continue
-            da = 0.0
-            va = 0.0
-            base = pa + r * na
-            for j in range(na):
-                w = phi[base + j]
-                da += w * X[oa + j]
-                va += w * V[oa + j]
-            base = pb + r * nbd
-            for j in range(nbd):
-                w = phi[base + j]
-                da -= w * X[ob + j]
-                va -= w * V[ob + j]
+            rowa = phi[pa + r * na:pa + (r + 1) * na]
+            rowb = phi[pb + r * nbd:pb + (r + 1) * nbd]
+            da = _dot(rowa, xa) - _dot(rowb, xb_)
+            va = _dot(rowa, vva) - _dot(rowb, vvb)
             if r == 0:
                 da -= g0
                 va -= gd0
@@ -230,12 +242,8 @@ def vehicle_forces(sys, X, V, s, F):
                 da -= dh
                 va -= speed * ddh
             f = -kr * da - cr * va
-            base = pa + r * na
-            for j in range(na):
-                F[oa + j] += phi[base + j] * f
-            base = pb + r * nbd
-            for j in range(nbd):
-                F[ob + j] -= phi[base + j] * f
+            _axpy(f, rowa, fa)
+            _axpy(-f, rowb, fb)
 
 
 @numba.njit(cache=True, fastmath=_FM)
@@ -319,18 +327,11 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
             oz = nv + (3 * side) * nm
             oy = oz + nm
             ot = oy + nm
-            zr = 0.0
-            yr = 0.0
-            tr = 0.0
-            vyr = 0.0
-            vtr = 0.0
-            for k in range(nm):
-                sk = sn[k]
-                zr += sk * X[oz + k]
-                yr += sk * X[oy + k]
-                tr += sk * X[ot + k]
-                vyr += sk * V[oy + k]
-                vtr += sk * V[ot + k]
+            zr = _dot(sn, X[oz:oz + nm])
+            yr = _dot(sn, X[oy:oy + nm])
+            tr = _dot(sn, X[ot:ot + nm])
+            vyr = _dot(sn, V[oy:oy + nm])
+            vtr = _dot(sn, V[ot:ot + nm])
             z_irr = _lerp_or_zero(irr[side], is0, ids, sw)
             y_irr = _lerp_or_zero(irr[2 + side], is0, ids, sw)
             y_head = yr - hh * tr + y_irr
@@ -403,11 +404,9 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
             cpz = scale * pr
             cpy = scale * qr
             cpt = scale * mr
-            for k in range(nm):
-                sk = sn[k]
-                F[oz + k] += cpz * sk
-                F[oy + k] += cpy * sk
-                F[ot + k] += cpt * sk
+            _axpy(cpz, sn, F[oz:oz + nm])
+            _axpy(cpy, sn, F[oy:oy + nm])
+            _axpy(cpt, sn, F[ot:ot + nm])
             aux[w, side, AUX_FZ] = fwz
             aux[w, side, AUX_FY] = fwy
             aux[w, side, AUX_FX] = fwx

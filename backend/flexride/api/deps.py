@@ -1,0 +1,59 @@
+"""Dependencies of the routes: the service objects of the app and the bearer-token check."""
+
+from __future__ import annotations
+
+import secrets
+from dataclasses import dataclass
+from typing import Annotated
+
+from fastapi import Depends, HTTPException, Request, Security
+from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
+
+from flexride.jobs.base import JobRunner
+from flexride.jobs.reaper import Reaper
+from flexride.settings import Settings
+from flexride.store import JobStore, ResultFiles
+from flexride.study.submit import Submitter
+
+
+@dataclass
+class Services:
+    """Everything a request may need, created once per app (see :func:`.main.create_app`)."""
+
+    settings: Settings
+    store: JobStore
+    files: ResultFiles
+    runner: JobRunner
+    submitter: Submitter
+    reaper: Reaper
+
+
+def get_services(request: Request) -> Services:
+    """The app's :class:`Services`."""
+    return request.app.state.services
+
+
+ServicesDep = Annotated[Services, Depends(get_services)]
+
+_bearer = HTTPBearer(
+    auto_error=False,
+    description="Required by every mutating endpoint when the service has FLEXRIDE_API_TOKEN",
+)
+
+
+def require_token(
+    request: Request,
+    credentials: Annotated[HTTPAuthorizationCredentials | None, Security(_bearer)] = None,
+) -> None:
+    """Check ``Authorization: Bearer <token>`` when the service has a token (401 otherwise)."""
+    token = get_services(request).settings.api_token
+    if not token:
+        return
+    given = credentials.credentials if credentials is not None else ""
+    if not secrets.compare_digest(given.encode(), token.encode()):
+        raise HTTPException(status_code=401, detail="a valid bearer token is required",
+                            headers={"WWW-Authenticate": "Bearer"})
+
+
+AUTH = [Depends(require_token)]
+"""Dependencies of mutating routes."""

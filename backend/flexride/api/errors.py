@@ -1,0 +1,153 @@
+"""Errors of the API and their JSON responses.
+
+* :class:`~flexride.errors.StabilityError` → 422 naming ``solver.dt`` with a step that works;
+* other :class:`~flexride.errors.FlexrideError` (invalid scenario, unknown preset, analysis
+  input) → 422 with one item per problem (``loc`` = field path, ``msg`` with the allowed range);
+* request validation → 422 in the same shape; :class:`NotFound` → 404; :class:`Conflict` → 409;
+* anything else → 500 with a JSON body (and the traceback in the log).
+
+Responses are JSON without NaN (non-finite numbers become null).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import re
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+from flexride.errors import FlexrideError, ResultsFileError, StabilityError
+
+log = logging.getLogger(__name__)
+
+_ITEM = re.compile(r"^(?P<src>[^:]{1,120}): (?P<path>[A-Za-z0-9_.\[\]()-]+|\(root\)): (?P<msg>.+)$",
+                   re.S)
+
+
+class NotFound(Exception):  # noqa: N818 - reads better at the raise site
+    """A job, study, preset or file that does not exist (404)."""
+
+
+class Conflict(Exception):  # noqa: N818
+    """The resource exists but is not in a state that allows the request (409)."""
+
+
+def _finite(obj: Any) -> Any:
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_finite(v) for v in obj]
+    return obj
+
+
+class SafeJSONResponse(JSONResponse):
+    """JSON response that writes non-finite floats as null instead of failing."""
+
+    def render(self, content: Any) -> bytes:
+        try:
+            text = json.dumps(content, ensure_ascii=False, allow_nan=False,
+                              separators=(",", ":"))
+        except ValueError:
+            text = json.dumps(_finite(content), ensure_ascii=False, allow_nan=False,
+                              separators=(",", ":"))
+        return text.encode("utf-8")
+
+
+def _path_loc(path: str) -> list[str | int]:
+    if path == "(root)":
+        return []
+    return [int(p) if p.isdigit() else p for p in path.split(".")]
+
+
+def error_items(message: str, kind: str) -> list[dict[str, Any]]:
+    """Split a flexride error message (``source: field.path: problem; ...``) into items."""
+    items = []
+    for part in message.split("; "):
+        m = _ITEM.match(part.strip())
+        if m:
+            items.append({"loc": _path_loc(m.group("path")), "msg": part.strip(), "type": kind})
+        elif items and not part[:1].isupper() and ":" not in part[:40]:
+            items[-1]["msg"] += "; " + part  # a message that itself contained "; "
+        else:
+            items.append({"loc": [], "msg": part.strip(), "type": kind})
+    return items
+
+
+def _error(status: int, detail: Any, message: str | None = None, **extra: Any) -> JSONResponse:
+    body = {"detail": detail, "message": message, **extra}
+    return SafeJSONResponse(status_code=status, content=body)
+
+
+async def _flexride_error(_request: Request, exc: Exception) -> JSONResponse:
+    if isinstance(exc, StabilityError):
+        item = {"loc": ["scenario", "solver", "dt"], "msg": str(exc), "type": "stability",
+                "ctx": {"dt": exc.dt, "dt_max": exc.dt_max, "dt_suggested": exc.dt_suggested}}
+        return _error(422, [item], str(exc), dt_suggested=exc.dt_suggested)
+    if isinstance(exc, ResultsFileError):
+        return _error(404, str(exc), str(exc))
+    kind = type(exc).__name__
+    return _error(422, error_items(str(exc), kind), str(exc))
+
+
+async def _validation_error(_request: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, RequestValidationError)
+    items = []
+    for err in exc.errors():
+        ctx = err.get("ctx")
+        items.append({
+            "loc": [p if isinstance(p, int) else str(p) for p in err.get("loc", ())],
+            "msg": str(err.get("msg", "")),
+            "type": str(err.get("type", "validation")),
+            "ctx": {k: v if isinstance(v, int | float | str | bool) or v is None else str(v)
+                    for k, v in ctx.items()} if ctx else None,
+        })
+    message = "; ".join(f"{'.'.join(map(str, i['loc']))}: {i['msg']}" for i in items)
+    return _error(422, items, message)
+
+
+async def _not_found(_request: Request, exc: Exception) -> JSONResponse:
+    return _error(404, str(exc), str(exc))
+
+
+async def _conflict(_request: Request, exc: Exception) -> JSONResponse:
+    return _error(409, str(exc), str(exc))
+
+
+async def _http_error(_request: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, StarletteHTTPException)
+    detail = exc.detail if isinstance(exc.detail, str) else json.dumps(exc.detail)
+    return SafeJSONResponse(status_code=exc.status_code,
+                            content={"detail": detail, "message": detail},
+                            headers=getattr(exc, "headers", None))
+
+
+async def _internal_error(request: Request, exc: Exception) -> JSONResponse:
+    log.exception("internal error on %s %s", request.method, request.url.path, exc_info=exc)
+    return _error(500, f"internal error ({type(exc).__name__}); see the service log",
+                  f"internal error ({type(exc).__name__})")
+
+
+def install_error_handlers(app: FastAPI) -> None:
+    """Register the handlers above on ``app``."""
+    app.add_exception_handler(FlexrideError, _flexride_error)
+    app.add_exception_handler(RequestValidationError, _validation_error)
+    app.add_exception_handler(NotFound, _not_found)
+    app.add_exception_handler(Conflict, _conflict)
+    app.add_exception_handler(StarletteHTTPException, _http_error)
+    app.add_exception_handler(Exception, _internal_error)
+
+
+ERROR_RESPONSES: dict[int | str, dict[str, Any]] = {
+    404: {"description": "Unknown id or name"},
+    413: {"description": "Request body too large"},
+    422: {"description": "Invalid input: field paths and allowed ranges"},
+}
+"""Documented error responses shared by the routers (model added in :mod:`.main`)."""

@@ -1,0 +1,14 @@
+"""The API routers, one module per resource."""
+
+from fastapi import APIRouter
+
+from flexride.api.routes import health, jobs, presets, results, studies
+
+api_router = APIRouter()
+api_router.include_router(jobs.router)
+api_router.include_router(results.router)
+api_router.include_router(studies.router)
+api_router.include_router(presets.router)
+api_router.include_router(health.router)
+
+__all__ = ["api_router"]

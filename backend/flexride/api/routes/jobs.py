@@ -1,0 +1,68 @@
+"""Routes of jobs: submit, list, detail, scenario, cancel, delete."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Path, Query, Response
+
+from flexride.api.deps import AUTH, ServicesDep
+from flexride.api.schemas import JobCreate, JobList, JobOut, JobStatus, JobSubmitted
+from flexride.api.services import jobs as svc_jobs
+
+router = APIRouter(prefix="/jobs", tags=["jobs"])
+
+JobId = Annotated[str, Path(min_length=1, max_length=64, description="Job id")]
+
+
+@router.post("", status_code=201, response_model=JobSubmitted, dependencies=AUTH,
+             summary="Submit a simulation job",
+             responses={401: {"description": "Bearer token missing or wrong"}})
+def submit_job(body: JobCreate, svc: ServicesDep) -> dict[str, Any]:
+    """Submit ``{"scenario": {...}}`` or ``{"preset": NAME, "overrides": {...}}``.
+
+    The scenario is validated (422 with field paths and allowed ranges) and checked for
+    time-step stability (422 with ``dt_suggested``). An identical scenario that already ran
+    is answered from its stored results (``reused: true``) unless ``reuse`` is false.
+    """
+    return svc_jobs.create_job(svc, body)
+
+
+@router.get("", response_model=JobList, summary="List jobs")
+def list_jobs(
+    svc: ServicesDep,
+    status: Annotated[JobStatus | None, Query(description="Only jobs in this state")] = None,
+    study_id: Annotated[str | None, Query(max_length=64, description="Only this study")] = None,
+    limit: Annotated[int, Query(ge=1, le=500)] = 50,
+    offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
+) -> dict[str, Any]:
+    """Jobs newest first, filtered by status and study, a page at a time."""
+    return svc_jobs.list_jobs(svc, status, study_id, limit, offset)
+
+
+@router.get("/{job_id}", response_model=JobOut, summary="Job detail")
+def get_job(job_id: JobId, svc: ServicesDep) -> dict[str, Any]:
+    """Status, progress and message, timings, attempts, error text."""
+    return svc_jobs.job_out(svc_jobs.get_job(svc, job_id), svc)
+
+
+@router.get("/{job_id}/scenario", response_model=dict[str, Any], summary="Scenario of a job")
+def get_scenario(job_id: JobId, svc: ServicesDep) -> dict[str, Any]:
+    """The full validated scenario the job runs."""
+    return svc_jobs.get_job(svc, job_id, scenario=True).scenario
+
+
+@router.post("/{job_id}/cancel", response_model=JobOut, dependencies=AUTH,
+             summary="Cancel a job",
+             responses={401: {"description": "Bearer token missing or wrong"}})
+def cancel_job(job_id: JobId, svc: ServicesDep) -> dict[str, Any]:
+    """A queued job is cancelled at once, a running one within about a second."""
+    return svc_jobs.cancel_job(svc, job_id)
+
+
+@router.delete("/{job_id}", status_code=204, dependencies=AUTH, summary="Delete a job",
+               responses={401: {"description": "Bearer token missing or wrong"}})
+def delete_job(job_id: JobId, svc: ServicesDep) -> Response:
+    """Delete the record and the result file (a running job is cancelled)."""
+    svc_jobs.delete_job(svc, job_id)
+    return Response(status_code=204)

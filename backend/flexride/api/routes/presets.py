@@ -1,0 +1,47 @@
+"""Routes of presets and schemas."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Path
+
+from flexride.api.errors import NotFound
+from flexride.api.schemas import PresetOut
+
+router = APIRouter(tags=["presets"])
+
+
+@router.get("/presets", response_model=list[PresetOut], summary="List presets")
+def list_presets() -> list[dict[str, Any]]:
+    """The named scenarios (the paper's vehicle and track and its 16 conditions)."""
+    from flexride.model.presets import PRESETS
+
+    return [{"name": k, "description": v.get("description", ""),
+             "speed_kmh": v.get("speed_kmh")} for k, v in PRESETS.items()]
+
+
+@router.get("/presets/{name}", response_model=dict[str, Any], summary="A preset's scenario")
+def get_preset(name: Annotated[str, Path(max_length=80)]) -> dict[str, Any]:
+    """The full, validated scenario of a preset (every default filled in)."""
+    from flexride.model.presets import PRESETS, load_preset
+
+    if name not in PRESETS:
+        raise NotFound(f"no preset {name!r}")
+    return load_preset(name).model_dump(mode="json")
+
+
+@router.get("/schemas/scenario", response_model=dict[str, Any], summary="Scenario schema")
+def scenario_schema() -> dict[str, Any]:
+    """JSON schema of a scenario: every field with its unit, default and allowed range."""
+    from flexride.model.scenario import Scenario
+
+    return Scenario.model_json_schema()
+
+
+@router.get("/schemas/study", response_model=dict[str, Any], summary="Study request schema")
+def study_schema() -> dict[str, Any]:
+    """JSON schema of a study request."""
+    from flexride.api.schemas import StudyCreate
+
+    return StudyCreate.model_json_schema()

@@ -1,0 +1,73 @@
+"""Routes of studies: submit a job matrix, detail with tables, list, cancel, delete, presets."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Path, Query, Response
+
+from flexride.api.deps import AUTH, ServicesDep
+from flexride.api.errors import NotFound
+from flexride.api.schemas import StudyCreate, StudyDetail, StudyList, StudyPresetOut
+from flexride.api.services import studies as svc_studies
+
+router = APIRouter(tags=["studies"])
+
+StudyId = Annotated[str, Path(min_length=1, max_length=64, description="Study id")]
+_AUTH_DOC = {401: {"description": "Bearer token missing or wrong"}}
+
+
+@router.post("/studies", status_code=201, response_model=StudyDetail, dependencies=AUTH,
+             summary="Submit a study", responses=_AUTH_DOC)
+def submit_study(body: StudyCreate, svc: ServicesDep) -> dict[str, Any]:
+    """Create the job matrix of a base scenario and its axes (conditions × speeds × body
+    models × parameters) and queue every job. ``{"preset": "paper-table3"}`` runs the
+    paper's 16 conditions."""
+    return svc_studies.create_study(svc, body)
+
+
+@router.get("/studies", response_model=StudyList, summary="List studies")
+def list_studies(
+    svc: ServicesDep,
+    limit: Annotated[int, Query(ge=1, le=500)] = 50,
+    offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
+) -> dict[str, Any]:
+    """Studies newest first with their job counts."""
+    return svc_studies.list_studies(svc, limit, offset)
+
+
+@router.get("/studies/{study_id}", response_model=StudyDetail, summary="Study detail")
+def get_study(study_id: StudyId, svc: ServicesDep) -> dict[str, Any]:
+    """Jobs of the study and its tables: Sperling vs speed per condition and point, peak
+    acceleration vs speed with linear fit and R², flexible vs rigid differences."""
+    return svc_studies.study_detail(svc, study_id)
+
+
+@router.post("/studies/{study_id}/cancel", response_model=StudyDetail, dependencies=AUTH,
+             summary="Cancel a study", responses=_AUTH_DOC)
+def cancel_study(study_id: StudyId, svc: ServicesDep) -> dict[str, Any]:
+    """Cancel every queued or running job of the study."""
+    return svc_studies.cancel_study(svc, study_id)
+
+
+@router.delete("/studies/{study_id}", status_code=204, dependencies=AUTH,
+               summary="Delete a study", responses=_AUTH_DOC)
+def delete_study(study_id: StudyId, svc: ServicesDep) -> Response:
+    """Delete the study, its jobs and their result files."""
+    svc_studies.delete_study(svc, study_id)
+    return Response(status_code=204)
+
+
+@router.get("/study-presets", response_model=list[StudyPresetOut], summary="Study presets")
+def study_presets() -> list[dict[str, Any]]:
+    """Built-in studies (the paper's Table 3 and Table 2) and the requests they stand for."""
+    return svc_studies.study_presets()
+
+
+@router.get("/study-presets/{name}", response_model=StudyPresetOut, summary="A study preset")
+def study_preset(name: Annotated[str, Path(max_length=80)]) -> dict[str, Any]:
+    """One built-in study."""
+    for p in svc_studies.study_presets():
+        if p["name"] == name:
+            return p
+    raise NotFound(f"no study preset {name!r}")

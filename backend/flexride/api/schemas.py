@@ -1,0 +1,499 @@
+"""Request and response bodies of the API (pydantic), as documented in the OpenAPI schema."""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
+BodyModelName = Literal["rigid", "flexible"]
+
+_NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9 _.+-]{0,79}$"
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+# -- errors ----------------------------------------------------------------------------------
+
+
+class ErrorItem(BaseModel):
+    """One problem with a request: where (``loc``), what (``msg``) and its kind."""
+
+    loc: list[str | int] = Field(default_factory=list, description="Path of the field")
+    msg: str
+    type: str
+    ctx: dict[str, Any] | None = None
+
+
+class ErrorResponse(BaseModel):
+    """Error body: ``detail`` is a list of problems (422) or one message (other codes)."""
+
+    detail: list[ErrorItem] | str
+    message: str | None = Field(None, description="The whole error as one line")
+    dt_suggested: float | None = Field(
+        None, description="For an unstable time step: a solver.dt that works (s)"
+    )
+
+
+# -- jobs ------------------------------------------------------------------------------------
+
+
+class JobCreate(_Strict):
+    """A simulation job: a full scenario, or a preset with dotted-path overrides."""
+
+    scenario: dict[str, Any] | None = Field(
+        None,
+        description="Full scenario, see GET /api/v1/schemas/scenario; may start from "
+        "'preset: NAME' and give only what differs",
+    )
+    preset: str | None = Field(None, max_length=80, description="Preset name (GET /presets)")
+    overrides: dict[str, Any] = Field(
+        default_factory=dict,
+        max_length=200,
+        description="Dotted path → value, applied last, e.g. {\"speed_kmh\": 60, "
+        "\"solver.dt\": 5e-5}",
+    )
+    name: str | None = Field(None, pattern=_NAME_PATTERN, description="Job name")
+    reuse: bool = Field(
+        True, description="Reuse the stored results of an identical scenario (content hash)"
+    )
+
+    @model_validator(mode="after")
+    def _one_source(self) -> JobCreate:
+        if (self.scenario is None) == (self.preset is None):
+            raise ValueError("give either 'scenario' or 'preset' (not both)")
+        return self
+
+
+class JobOut(BaseModel):
+    """State of a job."""
+
+    id: str
+    name: str
+    status: JobStatus
+    progress: float = Field(description="Fraction done (0–1)")
+    message: str = Field(description="Last progress message")
+    error: str | None = Field(None, description="Why the job failed")
+    created_at: datetime
+    started_at: datetime | None = None
+    finished_at: datetime | None = None
+    updated_at: datetime
+    queue_time_s: float | None = Field(None, description="Time waiting for a worker (s)")
+    run_time_s: float | None = Field(None, description="Time running so far or in all (s)")
+    solver_wall_time_s: float | None = Field(None, description="Solver loop wall time (s)")
+    attempts: int = Field(description="Times a worker started the job")
+    max_attempts: int
+    runner: str
+    worker: str | None = None
+    cancel_requested: bool
+    preset: str | None = None
+    speed_kmh: float | None = None
+    duration_s: float | None = Field(None, description="Simulated time (s)")
+    scenario_hash: str
+    reused_from: str | None = Field(None, description="Job whose results were reused")
+    study_id: str | None = None
+    study_index: int | None = None
+    axes: dict[str, Any] = Field(default_factory=dict, description="Study axis values")
+    has_results: bool
+    links: dict[str, str] = Field(default_factory=dict)
+
+
+class JobSubmitted(JobOut):
+    """A job just created (``reused``: finished at once from stored results)."""
+
+    reused: bool = False
+    preflight: dict[str, Any] | None = Field(
+        None, description="Submission check: stability limit and suggested step"
+    )
+
+
+class JobList(BaseModel):
+    """A page of jobs, newest first."""
+
+    items: list[JobOut]
+    total: int
+    limit: int
+    offset: int
+
+
+# -- results ---------------------------------------------------------------------------------
+
+
+class ChannelInfo(BaseModel):
+    """A recorded channel ``<body>.<point>.<quantity>.<direction>``."""
+
+    name: str
+    unit: str
+    body: str | None = None
+    point: str | None = None
+    quantity: str | None = None
+    direction: str | None = None
+
+
+class ChannelList(BaseModel):
+    """The channels of a job's results and its sampling."""
+
+    job_id: str
+    sample_rate_hz: float
+    n_samples: int
+    t_start_s: float
+    t_end_s: float
+    channels: list[ChannelInfo]
+
+
+class SeriesChannel(BaseModel):
+    """One channel, decimated: sample times (s) and values."""
+
+    name: str
+    unit: str
+    time: list[float]
+    values: list[float | None]
+    distance: list[float] | None = Field(None, description="Distance (m), if asked for")
+
+
+class SeriesOut(BaseModel):
+    """Decimated time series of chosen channels."""
+
+    job_id: str
+    method: Literal["minmax", "lttb", "none"]
+    max_points: int
+    n_samples: int = Field(description="Samples in the requested time range")
+    decimated: bool
+    sample_rate_hz: float
+    channels: list[SeriesChannel]
+
+
+class PeakOut(BaseModel):
+    """A spectral peak."""
+
+    frequency: float
+    amplitude: float | None
+    value: float | None
+    prominence: float | None
+
+
+class SpectrumChannel(BaseModel):
+    """Spectrum values of one channel (on the shared frequency axis)."""
+
+    name: str
+    unit: str
+    values: list[float | None]
+    peaks: list[PeakOut] = Field(default_factory=list)
+
+
+class SpectrumOut(BaseModel):
+    """Amplitude spectrum or PSD of chosen channels."""
+
+    job_id: str
+    kind: Literal["amplitude", "psd"]
+    frequencies: list[float]
+    resolution_hz: float
+    window: str
+    n_averages: int
+    scaling: str
+    dynamic: bool = Field(description="Quasi-static part (< 0.3 Hz) removed first")
+    decimated: bool
+    channels: list[SpectrumChannel]
+
+
+class SpectrogramOut(BaseModel):
+    """Short-time spectrum of one channel: ``values[i_frequency][i_time]``."""
+
+    job_id: str
+    channel: str
+    unit: str
+    times: list[float]
+    frequencies: list[float]
+    values: list[list[float | None]]
+    scaling: str
+    window_s: float
+    hop_s: float
+    resolution_hz: float
+    method: str
+    dynamic: bool
+
+
+class SperlingBand(BaseModel):
+    """Contribution of a frequency band to the Sperling index."""
+
+    f_low_hz: float
+    f_high_hz: float
+    w: float | None = Field(description="(Σ W_i^10)^(1/10) over the band's lines")
+
+
+class SperlingChannel(BaseModel):
+    """Sperling index of one channel and its breakdown over frequency."""
+
+    name: str
+    direction: Literal["vertical", "lateral"]
+    value: float | None = Field(description="Spectral form (default), as in the summary")
+    grade: str
+    filter_value: float | None = Field(None, description="Filter form, for comparison")
+    frequencies: list[float] = Field(description="Spectral lines used (Hz)")
+    line_amplitudes: list[float | None] = Field(description="Peak amplitude per line (m/s²)")
+    line_w: list[float | None] = Field(description="W_i per line")
+    bands: list[SperlingBand]
+    segment_values: list[float | None]
+    method: str
+
+
+class SperlingOut(BaseModel):
+    """Sperling breakdown of chosen channels."""
+
+    job_id: str
+    dynamic: bool
+    channels: list[SperlingChannel]
+
+
+class CorrelationChannel(BaseModel):
+    """Cross-correlation of the reference with one channel."""
+
+    name: str
+    lag_at_max_s: float | None
+    lag_at_max_interpolated_s: float | None
+    value_at_max: float | None
+    normalised_at_max: float | None
+    local_maxima: list[dict[str, float | None]]
+    lags_s: list[float]
+    normalised: list[float | None]
+
+
+class CorrelationOut(BaseModel):
+    """Cross-correlations; a maximum at lag > 0 means the channel lags the reference."""
+
+    job_id: str
+    reference: str
+    max_lag_s: float
+    convention: str
+    dynamic: bool
+    channels: list[CorrelationChannel]
+
+
+# -- studies ---------------------------------------------------------------------------------
+
+
+class ScenarioSource(_Strict):
+    """The base scenario of a study: a full scenario or a preset, with overrides."""
+
+    scenario: dict[str, Any] | None = None
+    preset: str | None = Field(None, max_length=80)
+    overrides: dict[str, Any] = Field(default_factory=dict, max_length=200)
+
+    @model_validator(mode="after")
+    def _one_source(self) -> ScenarioSource:
+        if (self.scenario is None) == (self.preset is None):
+            raise ValueError("give either 'scenario' or 'preset' (not both)")
+        return self
+
+
+class Condition(_Strict):
+    """A named line/excitation condition: dotted-path values set together."""
+
+    name: str = Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.+-]{0,39}$")
+    set: dict[str, Any] = Field(default_factory=dict, max_length=50,
+                                description="Dotted path → value")
+
+
+class ParameterAxis(_Strict):
+    """Any scenario parameter varied by its dotted path."""
+
+    path: str = Field(min_length=1, max_length=200, description="e.g. vehicle.carbody.mass")
+    values: list[Any] = Field(min_length=1, max_length=100)
+
+
+class StudyCreate(_Strict):
+    """A study: a base scenario and the axes to vary; the job matrix is their product.
+
+    Give ``preset`` (a study preset, GET /study-presets) or ``base``; axes given here replace
+    the preset's. ``overrides`` apply to every job, last (e.g. a shorter ``duration_s``).
+    """
+
+    name: str | None = Field(None, pattern=_NAME_PATTERN)
+    description: str = Field("", max_length=4000)
+    preset: str | None = Field(None, max_length=80, description="Study preset name")
+    base: ScenarioSource | None = None
+    speeds_kmh: list[float] | None = Field(None, min_length=1, max_length=100)
+    conditions: list[str | Condition] | None = Field(
+        None, min_length=1, max_length=100,
+        description="Paper conditions by name (random-straight, random-curve, corrugation, "
+        "settlement) or custom conditions",
+    )
+    body_models: list[BodyModelName] | None = Field(
+        None, min_length=1, max_length=2,
+        description="Car body and frames rigid and/or flexible",
+    )
+    parameters: list[ParameterAxis] | None = Field(None, max_length=10)
+    overrides: dict[str, Any] = Field(default_factory=dict, max_length=200)
+    reuse: bool = True
+
+    @model_validator(mode="after")
+    def _base_or_preset(self) -> StudyCreate:
+        if self.preset is None and self.base is None:
+            raise ValueError("give a study 'preset' or a 'base' scenario")
+        return self
+
+
+class StudyJobOut(BaseModel):
+    """A job of a study: its place in the matrix and its state."""
+
+    id: str
+    index: int | None
+    name: str
+    axes: dict[str, Any]
+    status: JobStatus
+    progress: float
+    speed_kmh: float | None
+    error: str | None = None
+    reused_from: str | None = None
+
+
+class LinearFitOut(BaseModel):
+    """Least-squares line y = slope·x + intercept with R²."""
+
+    slope: float | None
+    intercept: float | None
+    r_squared: float | None
+    n: int
+    stderr_slope: float | None = None
+    stderr_intercept: float | None = None
+    x_unit: str = "km/h"
+    y_unit: str = ""
+
+
+class SpeedSeries(BaseModel):
+    """A quantity against speed for one group (other axes fixed), point and direction."""
+
+    group: dict[str, Any]
+    point: str
+    direction: str
+    quantity: str
+    unit: str
+    speed_kmh: list[float]
+    value: list[float | None]
+    job_ids: list[str]
+    fit: LinearFitOut | None = None
+
+
+class FlexRigidRow(BaseModel):
+    """Flexible against rigid model for one case, point, direction and quantity."""
+
+    group: dict[str, Any]
+    speed_kmh: float | None
+    point: str
+    direction: str
+    quantity: str
+    rigid: float | None
+    flexible: float | None
+    difference: float | None = Field(description="flexible − rigid")
+    relative: float | None = Field(description="(flexible − rigid) / rigid")
+    rigid_job: str
+    flexible_job: str
+
+
+class StudyTables(BaseModel):
+    """Study results ready to plot."""
+
+    sperling_vs_speed: list[SpeedSeries] = Field(default_factory=list)
+    peak_vs_speed: list[SpeedSeries] = Field(default_factory=list)
+    flexible_vs_rigid: list[FlexRigidRow] = Field(default_factory=list)
+    notes: list[str] = Field(default_factory=list)
+
+
+class StudyOut(BaseModel):
+    """State of a study."""
+
+    id: str
+    name: str
+    description: str
+    preset: str | None
+    created_at: datetime
+    status: Literal["queued", "running", "succeeded", "failed", "cancelled", "partial", "empty"]
+    progress: float
+    n_jobs: int
+    counts: dict[str, int]
+    axes: list[dict[str, Any]]
+    links: dict[str, str] = Field(default_factory=dict)
+
+
+class StudyDetail(StudyOut):
+    """A study with its jobs and its aggregated tables."""
+
+    jobs: list[StudyJobOut]
+    tables: StudyTables
+
+
+class StudyList(BaseModel):
+    """A page of studies, newest first."""
+
+    items: list[StudyOut]
+    total: int
+    limit: int
+    offset: int
+
+
+class StudyPresetOut(BaseModel):
+    """A built-in study and the request it stands for."""
+
+    name: str
+    description: str
+    request: dict[str, Any]
+    n_jobs: int
+
+
+# -- presets, health, version -----------------------------------------------------------------
+
+
+class PresetOut(BaseModel):
+    """A named scenario."""
+
+    name: str
+    description: str
+    speed_kmh: float | None = None
+
+
+class ComponentHealth(BaseModel):
+    """Health of one component."""
+
+    ok: bool
+    detail: str = ""
+    data: dict[str, Any] = Field(default_factory=dict)
+
+
+class WorkerOut(BaseModel):
+    """A worker process seen recently."""
+
+    name: str
+    kind: str
+    hostname: str
+    pid: int
+    started_at: datetime
+    last_seen: datetime
+    alive: bool
+    current_job: str | None
+
+
+class HealthOut(BaseModel):
+    """Health of the API, the database, the broker and the workers."""
+
+    status: Literal["ok", "degraded", "down"]
+    version: str
+    runner: str
+    api: ComponentHealth
+    database: ComponentHealth
+    broker: ComponentHealth | None = None
+    workers: list[WorkerOut]
+    jobs: dict[str, int]
+
+
+class VersionOut(BaseModel):
+    """Versions of flexride and the main libraries."""
+
+    flexride: str
+    api: str
+    python: str
+    libraries: dict[str, str]
+    runner: str

@@ -1,0 +1,115 @@
+"""Job operations: create (resolve, check, reuse or queue), read, list, cancel, delete."""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from typing import Any
+
+from flexride.api.deps import Services
+from flexride.api.errors import Conflict, NotFound
+from flexride.api.schemas import JobCreate
+from flexride.settings import API_PREFIX
+from flexride.store import Job, now
+from flexride.study.scenarios import resolve_scenario
+
+
+def iso(t: float | None) -> datetime | None:
+    """Epoch seconds as an aware UTC datetime."""
+    return None if t is None else datetime.fromtimestamp(t, tz=UTC)
+
+
+def job_links(job_id: str) -> dict[str, str]:
+    """URLs of a job's resources."""
+    base = f"{API_PREFIX}/jobs/{job_id}"
+    return {"self": base, "summary": f"{base}/summary", "channels": f"{base}/channels",
+            "series": f"{base}/series", "spectrum": f"{base}/spectrum",
+            "download": f"{base}/download"}
+
+
+def job_out(job: Job, svc: Services) -> dict[str, Any]:
+    """The API view of a job record (``JobOut``)."""
+    t = now()
+    queue = None
+    if job.started_at is not None:
+        queue = max(0.0, job.started_at - job.created_at)
+    elif job.status == "queued":
+        queue = max(0.0, t - job.created_at)
+    run = None
+    if job.started_at is not None:
+        end = job.finished_at if job.finished_at is not None else t
+        run = max(0.0, end - job.started_at)
+    meta = job.run_meta or {}
+    return {
+        "id": job.id, "name": job.name, "status": job.status, "progress": job.progress,
+        "message": job.message, "error": job.error, "created_at": iso(job.created_at),
+        "started_at": iso(job.started_at), "finished_at": iso(job.finished_at),
+        "updated_at": iso(job.updated_at), "queue_time_s": queue, "run_time_s": run,
+        "solver_wall_time_s": meta.get("wall_time_solve_s"), "attempts": job.attempts,
+        "max_attempts": job.max_attempts, "runner": job.runner, "worker": job.worker,
+        "cancel_requested": job.cancel_requested, "preset": job.preset,
+        "speed_kmh": job.speed_kmh, "duration_s": job.duration_s,
+        "scenario_hash": job.scenario_hash, "reused_from": job.reused_from,
+        "study_id": job.study_id, "study_index": job.study_index, "axes": job.axes or {},
+        "has_results": job.status == "succeeded" and job.result_file is not None,
+        "links": job_links(job.id),
+    }
+
+
+def create_job(svc: Services, body: JobCreate) -> dict[str, Any]:
+    """Validate, check and queue a job (or finish it at once from reused results)."""
+    scenario = resolve_scenario(body.scenario, body.preset, body.overrides)
+    if body.name:
+        scenario = scenario.model_copy(update={"name": body.name[:80]})
+    preset = body.preset or (body.scenario or {}).get("preset")
+    sub = svc.submitter.submit_job(scenario, name=body.name or scenario.name,
+                                   preset=preset if isinstance(preset, str) else None,
+                                   reuse=body.reuse)
+    return {**job_out(sub.job, svc), "reused": sub.reused, "preflight": sub.preflight}
+
+
+def get_job(svc: Services, job_id: str, *, scenario: bool = False,
+            summary: bool = False) -> Job:
+    """The job or :class:`NotFound`."""
+    job = svc.store.get_job(job_id, scenario=scenario, summary=summary)
+    if job is None:
+        raise NotFound(f"no job {job_id!r}")
+    return job
+
+
+def finished_job(svc: Services, job_id: str, *, summary: bool = False) -> Job:
+    """A job with results, or :class:`NotFound` / :class:`Conflict` saying why not."""
+    job = get_job(svc, job_id, summary=summary)
+    if job.status != "succeeded" or not job.result_file:
+        state = {"queued": "is queued", "running": f"is running ({job.progress:.0%})",
+                 "failed": "failed", "cancelled": "was cancelled"}.get(job.status, job.status)
+        raise Conflict(f"job {job_id} {state}: it has no results")
+    return job
+
+
+def list_jobs(svc: Services, status: str | None, study_id: str | None, limit: int,
+              offset: int) -> dict[str, Any]:
+    """A page of jobs."""
+    items, total = svc.store.list_jobs(status=status, study_id=study_id, limit=limit,
+                                       offset=offset)
+    return {"items": [job_out(j, svc) for j in items], "total": total, "limit": limit,
+            "offset": offset}
+
+
+def cancel_job(svc: Services, job_id: str) -> dict[str, Any]:
+    """Cancel a queued or running job (a finished one is left as it is)."""
+    job = svc.store.request_cancel(job_id)
+    if job is None:
+        raise NotFound(f"no job {job_id!r}")
+    if job.status in ("queued", "running", "cancelled"):
+        svc.runner.cancel(job_id)
+    return job_out(job, svc)
+
+
+def delete_job(svc: Services, job_id: str) -> None:
+    """Delete a job's record and its result file (a running job is cancelled)."""
+    job = svc.store.delete_job(job_id)
+    if job is None:
+        raise NotFound(f"no job {job_id!r}")
+    if job.status in ("queued", "running"):
+        svc.runner.cancel(job_id)
+    svc.files.delete(job.result_file)

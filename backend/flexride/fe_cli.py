@@ -1,0 +1,255 @@
+"""``flexride fe …``: finite-element car body and bogie frame from the command line.
+
+Commands: ``modes`` (modal table and mass properties of a default model), ``reduce`` (reduction
+report), ``calibrate`` (model updating against target frequencies) and ``export`` (mesh and mode
+shapes as JSON). Every command takes ``--json``. User errors end with one line on standard error
+and exit code 2.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.console import Console
+
+from flexride.errors import FlexrideError
+
+fe_app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Finite-element models of the car body and bogie frame: modes, reductions, calibration.",
+)
+_out = Console(highlight=False, soft_wrap=True)
+_err = Console(stderr=True, highlight=False, soft_wrap=True)
+
+KindArg = Annotated[str, typer.Argument(help="carbody or frame")]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")]
+SizeOpt = Annotated[
+    float, typer.Option("--element-size", help="Car-body shell element size (m).", min=0.05, max=1.0)
+]
+PresetOpt = Annotated[str, typer.Option("--preset", help="Preset whose vehicle is used.")]
+
+
+def _fail(message: str) -> None:
+    _err.print(f"error: {message}", markup=False)
+    raise typer.Exit(2)
+
+
+def _vehicle(preset: str):
+    from flexride.model.presets import load_preset
+
+    return load_preset(preset).vehicle
+
+
+def _kind(kind: str) -> str:
+    if kind not in ("carbody", "frame"):
+        _fail(f"unknown body {kind!r}: use carbody or frame")
+    return kind
+
+
+def _print_json(data) -> None:
+    sys.stdout.write(json.dumps(data, indent=1) + "\n")
+
+
+@fe_app.command("modes")
+def modes_cmd(
+    kind: KindArg,
+    as_json: JsonOpt = False,
+    element_size: SizeOpt = 0.2,
+    n_modes: Annotated[int, typer.Option("--n-modes", min=1, max=200)] = 12,
+    preset: PresetOpt = "paper-metro",
+) -> None:
+    """Free–free modes (frequency, classification) and mass properties of a default model."""
+    try:
+        from flexride.fem.classify import classify_mode, classify_plane_frame_mode
+        from flexride.fem.eigen import solve_modes
+        from flexride.fem.flexible import build_fe_model
+        from flexride.fem.report import mass_summary
+
+        model, target = build_fe_model(_kind(kind), _vehicle(preset), element_size)
+        K, M = model.assemble()
+        modes = solve_modes(K, M, n_modes=n_modes + 6)
+        rows = []
+        for k in range(6, modes.frequencies.size):
+            phi = modes.shapes[:, k]
+            if kind == "frame":
+                c = classify_plane_frame_mode(phi, M, model.nodes)
+            else:
+                c = classify_mode(phi, M, model.nodes, model.node_region, model.region_names)
+            rows.append({"mode": k - 5, "frequency_hz": float(modes.frequencies[k]), "type": c})
+        mass = mass_summary(model.mass_properties(), target)
+    except FlexrideError as exc:
+        _fail(str(exc))
+    data = {
+        "body": kind,
+        "element_size_m": element_size if kind == "carbody" else model.info["element_size"],
+        "n_nodes": int(model.mesh.n_nodes),
+        "n_dof": int(model.n_dof),
+        "rigid_frequencies_hz": [float(v) for v in modes.frequencies[:6]],
+        "modes": rows,
+        "mass": mass,
+        "mass_groups_kg": model.info.get("mass_groups_kg", {}),
+    }
+    if as_json:
+        _print_json(data)
+        return
+    _out.print(
+        f"{kind}: {data['n_nodes']} nodes, {data['n_dof']} DOFs, element size "
+        f"{data['element_size_m']:g} m"
+    )
+    _print_mass(mass)
+    _out.print(f"{'mode':>4} {'f (Hz)':>9}  type")
+    for r in rows:
+        _out.print(f"{r['mode']:4d} {r['frequency_hz']:9.3f}  {r['type']}")
+
+
+def _print_mass(m: dict) -> None:
+    _out.print(
+        f"mass {m['mass_kg']:.1f} kg; CG ({m['cg_m'][0]:.3f}, {m['cg_m'][1]:.3f}, "
+        f"{m['cg_m'][2]:.3f}) m; Ixx/Iyy/Izz "
+        + " / ".join(f"{v:.1f}" for v in m["inertia_diag_kgm2"])
+        + " kg·m²"
+    )
+    if "errors" in m:
+        e = m["errors"]
+        _out.print(
+            f"vs vehicle parameters: mass {100 * e['mass']:+.2f} %, Ixx {100 * e['ixx']:+.2f} %, "
+            f"Iyy {100 * e['iyy']:+.2f} %, Izz {100 * e['izz']:+.2f} %, "
+            f"CG height {1000 * e['cg_m'][2]:+.1f} mm"
+        )
+
+
+@fe_app.command("reduce")
+def reduce_cmd(
+    kind: KindArg,
+    method: Annotated[str, typer.Option("--method", help="guyan, craig-bampton or modal")] = "modal",
+    cutoff: Annotated[float, typer.Option("--cutoff", help="Cut-off frequency (Hz).")] = 100.0,
+    as_json: JsonOpt = False,
+    element_size: SizeOpt = 0.2,
+    preset: PresetOpt = "paper-metro",
+    max_rows: Annotated[int, typer.Option("--rows", min=1)] = 40,
+    no_cache: Annotated[bool, typer.Option("--no-cache", help="Rebuild, do not use the cache.")] = False,
+) -> None:
+    """Reduce a default model and print the reduction report."""
+    try:
+        from flexride.fem.flexible import METHODS, build_flexible_body
+
+        if method not in METHODS:
+            _fail(f"unknown method {method!r}: use one of {', '.join(METHODS)}")
+        if not (cutoff > 0 and np.isfinite(cutoff)):
+            _fail(f"--cutoff must be a positive frequency in Hz, got {cutoff}")
+        fb = build_flexible_body(
+            _kind(kind),
+            _vehicle(preset),
+            method=method,
+            cutoff_hz=cutoff,
+            element_size=element_size,
+            name=kind,
+            use_cache=not no_cache,
+        )
+    except FlexrideError as exc:
+        _fail(str(exc))
+    if as_json:
+        d = fb.report.to_dict()
+        d["build_seconds"] = fb.build_seconds
+        d["from_cache"] = fb.from_cache
+        _print_json(d)
+        return
+    _out.print(fb.report.table(max_rows=max_rows), markup=False)
+    _out.print(
+        f"({'loaded from cache' if fb.from_cache else 'built'} in {fb.build_seconds:.2f} s)",
+        markup=False,
+    )
+
+
+def _parse_targets(text: str) -> list[float]:
+    try:
+        vals = [float(v) for v in text.replace(";", ",").split(",") if v.strip()]
+    except ValueError:
+        _fail(f"--targets must be comma-separated frequencies in Hz, got {text!r}")
+    if not vals or any(v <= 0 or not np.isfinite(v) for v in vals):
+        _fail(f"--targets must be positive frequencies in Hz, got {text!r}")
+    return vals
+
+
+@fe_app.command("calibrate")
+def calibrate_cmd(
+    targets: Annotated[
+        str, typer.Option("--targets", help="Target frequencies (Hz), comma-separated, ascending.")
+    ] = "5.03,6.11,6.33,7.40,8.00,8.84",
+    as_json: JsonOpt = False,
+    element_size: SizeOpt = 0.2,
+    max_evaluations: Annotated[int, typer.Option("--max-evaluations", min=1, max=2000)] = 90,
+    variables: Annotated[
+        str, typer.Option("--variables", help="Comma-separated calibration variables.")
+    ] = "",
+    preset: PresetOpt = "paper-metro",
+) -> None:
+    """Update car-body panel sections and mass split to hit target frequencies."""
+    from flexride.fem.calibration import DEFAULT_VARIABLES, calibrate_carbody
+    from flexride.fem.flexible import carbody_params_for, carbody_target
+
+    t = _parse_targets(targets)
+    names = tuple(v.strip() for v in variables.split(",") if v.strip()) or DEFAULT_VARIABLES
+    try:
+        vehicle = _vehicle(preset)
+
+        def progress(n: int, f) -> None:
+            if not as_json:
+                _err.print(f"  evaluation {n}: " + ", ".join(f"{v:.3f}" for v in f) + " Hz")
+
+        res = calibrate_carbody(
+            t,
+            carbody_target(vehicle),
+            base=carbody_params_for(vehicle),
+            variables=names,
+            element_size=element_size,
+            max_evaluations=max_evaluations,
+            progress=progress,
+        )
+    except FlexrideError as exc:
+        _fail(str(exc))
+    if as_json:
+        _print_json(res.to_dict())
+        return
+    _out.print(res.table(), markup=False)
+    _out.print("calibrated values (paste into flexride/fem/defaults.py CARBODY_CALIBRATED):")
+    _out.print(json.dumps({k: round(v, 6) for k, v in res.values.items()}), markup=False)
+
+
+@fe_app.command("export")
+def export_cmd(
+    kind: KindArg,
+    out: Annotated[Path, typer.Option("--out", help="Output JSON file ('-' for stdout).")] = Path(
+        "-"
+    ),
+    method: Annotated[str, typer.Option("--method")] = "modal",
+    cutoff: Annotated[float, typer.Option("--cutoff")] = 30.0,
+    n_modes: Annotated[int, typer.Option("--n-modes", min=0, max=500)] = 12,
+    element_size: SizeOpt = 0.2,
+    preset: PresetOpt = "paper-metro",
+) -> None:
+    """Mesh and mode shapes as JSON for a browser."""
+    try:
+        from flexride.fem.flexible import build_flexible_body
+
+        fb = build_flexible_body(
+            _kind(kind), _vehicle(preset), method=method, cutoff_hz=cutoff,
+            element_size=element_size, name=kind,
+        )
+    except FlexrideError as exc:
+        _fail(str(exc))
+    text = json.dumps(fb.export(max_modes=n_modes))
+    if str(out) == "-":
+        sys.stdout.write(text + "\n")
+    else:
+        try:
+            out.write_text(text, encoding="utf-8")
+        except OSError as exc:
+            _fail(f"cannot write {out}: {exc}")
+        _out.print(f"wrote {out} ({len(text) / 1e6:.1f} MB)")

@@ -1,0 +1,16 @@
+"""Finite-element models of the car body and bogie frame, eigen solutions and reductions.
+
+Public entry points:
+
+* :func:`flexride.fem.flexible.build_flexible_body` — a reduced flexible body (ModalBody) for
+  the solver, cached on disk;
+* :func:`flexride.fem.modal_body.reduced_to_modal_body` — any (reduced) M, K to a ModalBody;
+* :func:`flexride.fem.carbody.build_carbody`, :func:`flexride.fem.frame.build_frame` — the
+  parametric FE models;
+* :mod:`flexride.fem.reduction` — Guyan, Craig–Bampton and modal truncation;
+* :mod:`flexride.fem.importers` — external M and K (MatrixMarket, Harwell–Boeing, OP4);
+* :mod:`flexride.fem.calibration` — model updating against target frequencies.
+
+pyfe3d is used only inside :mod:`flexride.fem.pyfe3d_adapter`. Nothing here is imported by
+``import flexride``; import the submodules you need.
+"""

@@ -1,0 +1,102 @@
+"""On-disk cache of reduced bodies, keyed by a content hash of their inputs.
+
+Location: ``$FLEXRIDE_CACHE_DIR`` (default ``~/.cache/flexride``) / ``fem-<flexride version>``,
+as for the numba cache (:mod:`flexride._numba_env`), so an upgrade never loads a stale body.
+Each entry is an uncompressed ``.npz`` of arrays plus a ``.json`` of everything else, written
+atomically (temporary file, then rename) so concurrent processes never read half an entry.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: Bump when the content or layout of cached entries changes.
+CACHE_SCHEMA = 1
+
+
+def _version() -> str:
+    from flexride import __version__
+
+    return __version__
+
+
+def cache_dir() -> Path:
+    """The cache directory for FE bodies (created on first write)."""
+    base = Path(os.environ.get("FLEXRIDE_CACHE_DIR", Path.home() / ".cache" / "flexride"))
+    return base / f"fem-{_version()}"
+
+
+def _canonical(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {str(k): _canonical(v) for k, v in sorted(obj.items(), key=lambda kv: str(kv[0]))}
+    if isinstance(obj, (list, tuple)):
+        return [_canonical(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _canonical(obj.tolist())
+    if isinstance(obj, (np.floating, float)):
+        return float(repr(float(obj))) if np.isfinite(obj) else str(obj)
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    return obj
+
+
+def content_hash(inputs: dict) -> str:
+    """SHA-256 of the canonical JSON of ``inputs`` plus the versions and cache schema."""
+    from flexride.fem.pyfe3d_adapter import PYFE3D_VERSION
+
+    payload = {
+        "inputs": _canonical(inputs),
+        "flexride": _version(),
+        "pyfe3d": PYFE3D_VERSION,
+        "numpy_major": np.__version__.split(".")[0],
+        "schema": CACHE_SCHEMA,
+    }
+    text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
+
+
+def load(key: str) -> tuple[dict[str, np.ndarray], dict] | None:
+    """Arrays and metadata of entry ``key``, or None when absent or unreadable."""
+    d = cache_dir()
+    npz, meta = d / f"{key}.npz", d / f"{key}.json"
+    if not (npz.is_file() and meta.is_file()):
+        return None
+    try:
+        with np.load(npz, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+        info = json.loads(meta.read_text(encoding="utf-8"))
+    except (OSError, ValueError, json.JSONDecodeError):
+        return None
+    return arrays, info
+
+
+def store(key: str, arrays: dict[str, np.ndarray], info: dict) -> Path | None:
+    """Write entry ``key``; returns its path, or None when the directory is not writable."""
+    d = cache_dir()
+    tmp: list[str] = []
+    try:
+        d.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=d, suffix=".npz.tmp", delete=False) as fh:
+            tmp.append(fh.name)
+            np.savez(fh, **arrays)
+        with tempfile.NamedTemporaryFile(
+            "w", dir=d, suffix=".json.tmp", delete=False, encoding="utf-8"
+        ) as fh:
+            tmp.append(fh.name)
+            json.dump(_canonical(info), fh)
+        os.replace(tmp[0], d / f"{key}.npz")
+        os.replace(tmp[1], d / f"{key}.json")
+        tmp.clear()
+    except OSError:
+        return None
+    finally:
+        for name in tmp:
+            Path(name).unlink(missing_ok=True)
+    return d / f"{key}.npz"

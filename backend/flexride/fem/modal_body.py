@@ -1,0 +1,208 @@
+"""Turn a (full or reduced) FE model into the solver's :class:`~flexride.bodies.ModalBody`.
+
+The reduced mass and stiffness matrices are diagonalised; the six rigid-body modes are replaced
+by the exact rigid-body motion of the CG (the solver's six rigid coordinates), the elastic modes
+are made M-orthogonal to them and mass-normalised (φᵀMφ = 1), and their shapes are recovered at
+every node of the model so that markers can be placed anywhere.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from flexride.bodies import ModalBody
+from flexride.errors import FEModelError
+from flexride.fem.damping import DampingSpec, modal_damping_ratios
+from flexride.fem.eigen import solve_modes
+from flexride.fem.rigid import (
+    MassProperties,
+    mass_properties_from_rigid_mass,
+    rigid_body_vectors,
+)
+
+
+@dataclass
+class BodyModes:
+    """Rigid-body properties and elastic modes of a body, expressed at its nodes.
+
+    Attributes
+    ----------
+    body : ModalBody
+        The solver's body (rigid inertia from the model, retained elastic modes, markers).
+    nodes : numpy.ndarray
+        (n, 3) node coordinates in model axes (m; z above top of rail for vehicle bodies).
+    mass_properties : MassProperties
+        Mass, CG (model coordinates) and inertia tensor of the model.
+    shapes : numpy.ndarray
+        (n, 6, n_elastic) elastic mode shapes at every node (m and rad per unit modal
+        coordinate), M-orthogonal to the rigid-body modes, mass-normalised.
+    rigid_frequencies : numpy.ndarray
+        Frequencies of the six discarded rigid-body modes (Hz, ≈ 0: a check of the model).
+    reduced_modes : numpy.ndarray
+        (n_reduced, n_elastic) elastic modes in the reduced coordinates.
+    node_names : dict of str to int
+        Named nodes.
+    """
+
+    body: ModalBody
+    nodes: np.ndarray
+    mass_properties: MassProperties
+    shapes: np.ndarray
+    rigid_frequencies: np.ndarray
+    reduced_modes: np.ndarray | None = None
+    node_names: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def cg(self) -> np.ndarray:
+        """CG in model coordinates (m)."""
+        return self.mass_properties.cg
+
+    def nearest_node(self, position: np.ndarray | tuple[float, float, float]) -> int:
+        """Index of the node nearest to ``position`` given relative to the CG (m)."""
+        p = np.asarray(position, dtype=float) + self.cg
+        return int(np.argmin(np.einsum("ij,ij->i", self.nodes - p, self.nodes - p)))
+
+    def shape_at(self, position: np.ndarray | tuple[float, float, float]) -> np.ndarray:
+        """(6, n_elastic) elastic shapes at the node nearest to ``position`` (relative to CG,
+        body axes, m): translations (m) and rotations (rad) per unit modal coordinate."""
+        return np.array(self.shapes[self.nearest_node(position)])
+
+    def node_position(self, node: int) -> np.ndarray:
+        """Position of ``node`` relative to the CG (m)."""
+        return self.nodes[node] - self.cg
+
+
+def _dense(a) -> np.ndarray:
+    return a.toarray() if sp.issparse(a) else np.asarray(a, dtype=float)
+
+
+def reduced_to_modal_body(
+    name: str,
+    nodes_xyz: np.ndarray,
+    M,
+    K,
+    *,
+    recovery=None,
+    rigid_basis: np.ndarray | None = None,
+    cutoff_hz: float | None = 100.0,
+    n_modes: int | None = None,
+    damping: DampingSpec = 0.02,
+    x_ref: float = 0.0,
+    markers: dict[str, int] | None = None,
+    rigid_tolerance_hz: float = 0.5,
+) -> BodyModes:
+    """Diagonalise a (reduced) FE model into a :class:`~flexride.bodies.ModalBody`.
+
+    Parameters
+    ----------
+    name : str
+        Body name.
+    nodes_xyz : numpy.ndarray
+        (n, 3) coordinates (model axes, m; z above top of rail) of the nodes whose six DOFs are
+        the rows of ``recovery`` (or of ``M`` and ``K`` when ``recovery`` is None).
+    M, K : sparse or dense matrix
+        Mass and stiffness in the reduced coordinates (free–free: six rigid-body modes).
+    recovery : matrix, optional
+        (6 n, n_reduced) map from reduced coordinates to the nodal DOFs (Guyan / Craig–Bampton
+        transformation, or the retained mode shapes); None when ``M`` and ``K`` are nodal.
+    rigid_basis : numpy.ndarray, optional
+        (n_reduced, 6) rigid-body vectors (about the origin) in reduced coordinates; computed
+        from the nodes when omitted.
+    cutoff_hz : float or None
+        Keep elastic modes up to this frequency (Hz).
+    n_modes : int, optional
+        Keep (at most) this many elastic modes.
+    damping : float, sequence or RayleighDamping
+        Modal damping of the elastic modes.
+    x_ref : float
+        Position of the body's reference frame along the vehicle (m).
+    markers : dict of str to int, optional
+        Named nodes whose elastic shapes go into ``ModalBody.elastic_shapes``.
+    rigid_tolerance_hz : float
+        Largest frequency accepted for a rigid-body mode (Hz).
+
+    Returns
+    -------
+    BodyModes
+        The ModalBody and the nodal elastic shapes (for :meth:`BodyModes.shape_at`).
+
+    Raises
+    ------
+    FEModelError
+        If the model does not have six rigid-body modes (constrained or with mechanisms).
+    """
+    nodes_xyz = np.asarray(nodes_xyz, dtype=float).reshape(-1, 3)
+    n_red = M.shape[0]
+    R_nodes = rigid_body_vectors(nodes_xyz)
+    if recovery is None:
+        if n_red != R_nodes.shape[0]:
+            raise FEModelError(
+                f"matrices have {n_red} DOFs but {nodes_xyz.shape[0]} nodes need "
+                f"{R_nodes.shape[0]} (6 per node)"
+            )
+        R = R_nodes if rigid_basis is None else np.asarray(rigid_basis, dtype=float)
+    else:
+        R = rigid_basis
+        if R is None:
+            T = _dense(recovery)
+            R, *_ = np.linalg.lstsq(T, R_nodes, rcond=None)
+    Mrr = R.T @ (M @ R)
+    props = mass_properties_from_rigid_mass(Mrr)
+    if props.mass <= 0 or np.any(np.linalg.eigvalsh(props.inertia) <= 0):
+        raise FEModelError(f"model {name!r} has no positive mass or inertia: check M")
+
+    f_max = None if cutoff_hz is None else float(cutoff_hz)
+    want = None if n_modes is None else n_modes + 6
+    if f_max is None and want is None:
+        raise ValueError("give cutoff_hz or n_modes")
+    modes = solve_modes(K, M, n_modes=want if want is not None else 12, f_max=f_max)
+    phi = modes.shapes
+    # identify the rigid-body modes by their projection on the rigid subspace
+    Mrr_inv = np.linalg.inv(Mrr)
+    MR = M @ R
+    proj = np.einsum("ij,jk,ik->i", phi.T @ MR, Mrr_inv, phi.T @ MR)
+    rigid_idx = np.sort(np.argsort(-proj)[:6])
+    f_rigid = modes.frequencies[rigid_idx]
+    if phi.shape[1] < 6 or np.any(f_rigid > rigid_tolerance_hz) or np.any(proj[rigid_idx] < 0.9):
+        raise FEModelError(
+            f"model {name!r} does not have six free rigid-body modes (lowest frequencies "
+            f"{np.round(modes.frequencies[:8], 3).tolist()} Hz): it is constrained, has "
+            "mechanisms, or M/K are inconsistent"
+        )
+    el = np.setdiff1d(np.arange(phi.shape[1]), rigid_idx)
+    f_el = modes.frequencies[el]
+    q = phi[:, el]
+    # exact M-orthogonality to the rigid-body modes, then unit modal mass
+    q = q - R @ (Mrr_inv @ (MR.T @ q))
+    q = q / np.sqrt(np.einsum("ij,ij->j", q, M @ q))
+    keep = np.ones(f_el.size, dtype=bool)
+    if f_max is not None:
+        keep &= f_el <= f_max
+    if n_modes is not None:
+        keep &= np.arange(f_el.size) < n_modes
+    f_el, q = f_el[keep], q[:, keep]
+    full = q if recovery is None else recovery @ q
+    shapes = np.asarray(full).reshape(nodes_xyz.shape[0], 6, -1)
+    zeta = modal_damping_ratios(damping, f_el)
+    body = ModalBody(
+        name=name,
+        mass=props.mass,
+        inertia=np.diag(props.inertia).copy(),
+        x_ref=float(x_ref),
+        cg_height=float(props.cg[2]),
+        elastic_frequencies=f_el.copy(),
+        elastic_damping=zeta,
+        elastic_shapes={k: shapes[v].copy() for k, v in (markers or {}).items()},
+    )
+    return BodyModes(
+        body=body,
+        nodes=nodes_xyz,
+        mass_properties=props,
+        shapes=shapes,
+        rigid_frequencies=f_rigid,
+        reduced_modes=q,
+        node_names=dict(markers or {}),
+    )

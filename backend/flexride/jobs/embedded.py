@@ -1,0 +1,206 @@
+"""The embedded runner: a pool of worker processes on this machine, fed by the job store.
+
+``flexride serve`` without a broker starts this. Each worker process (``spawn``: a clean
+interpreter, no threads or connections inherited from the API) compiles the numba kernels once,
+then claims the oldest queued job from the store, runs it (:mod:`flexride.study.run_job`) and
+repeats. Queued jobs survive an API restart because the queue *is* the store. A supervisor
+thread in the API process replaces a worker process that dies and requeues (or fails, after
+``max_attempts``) the job it was running; on a clean shutdown the interrupted jobs are queued
+again without counting an attempt.
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing as mp
+import os
+import threading
+from collections.abc import Sequence
+from typing import Any
+
+from flexride.jobs.base import JobRunner
+from flexride.jobs.presence import hostname, worker_is_dead, worker_name
+from flexride.settings import Settings
+from flexride.store import JobStore, now
+
+log = logging.getLogger(__name__)
+
+KIND = "embedded"
+_IDLE_POLL_S = 1.0
+
+
+def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid: int) -> None:
+    """Body of one embedded worker process: claim queued jobs and run them until stopped.
+
+    Parameters
+    ----------
+    settings_data : dict
+        The service settings (``Settings.model_dump()``), so the worker sees exactly the
+        API's configuration.
+    wake, stop : multiprocessing.Event
+        Set by the API on new jobs / to stop.
+    parent_pid : int
+        The API process; the worker exits after its current job if that process is gone.
+    """
+    from flexride.jobs.presence import Presence
+    from flexride.jobs.warmup import warm_numba
+    from flexride.study.run_job import JobContext, run_claimed
+
+    logging.basicConfig(level=str(settings_data.get("log_level", "info")).upper(),
+                        format="%(asctime)s %(levelname)s [%(processName)s] %(message)s")
+    settings = Settings.model_validate(settings_data)
+    name = worker_name(KIND)
+    ctx = JobContext.from_settings(settings, name)
+    ctx.presence = Presence(ctx.store, name, KIND, settings.heartbeat_interval_s).start()
+    warm_numba()
+    try:
+        while not stop.is_set() and os.getppid() == parent_pid:
+            try:
+                claim = ctx.store.claim_next(
+                    KIND, name, stale_before=now() - settings.heartbeat_timeout_s,
+                    dead=worker_is_dead)
+            except Exception as exc:  # database briefly unavailable
+                log.warning("%s: cannot claim a job: %s", name, exc)
+                stop.wait(_IDLE_POLL_S)
+                continue
+            if claim is None:
+                if wake.wait(_IDLE_POLL_S):
+                    wake.clear()
+                continue
+            if claim.claimed:
+                run_claimed(claim.job, ctx)
+    finally:
+        ctx.presence.stop()
+
+
+class EmbeddedRunner(JobRunner):
+    """A supervised pool of ``settings.workers`` worker processes on this machine.
+
+    Parameters
+    ----------
+    settings : Settings
+        Pool size, database, results directory, heartbeat settings.
+    store : JobStore
+        The API process's store (for recovery of jobs whose worker died).
+    """
+
+    kind = KIND
+
+    def __init__(self, settings: Settings, store: JobStore):
+        self.settings = settings
+        self.store = store
+        self._ctx = mp.get_context("spawn")
+        self._wake = self._ctx.Event()
+        self._stop = self._ctx.Event()
+        self._procs: list[Any] = []
+        self._lock = threading.Lock()
+        self._stopping = threading.Event()
+        self._supervisor: threading.Thread | None = None
+        self.restarts = 0
+
+    # -- lifecycle ----------------------------------------------------------------------------
+
+    def start(self) -> None:
+        """Recover jobs of dead local workers, start the processes and their supervisor.
+
+        The worker processes inherit one-thread BLAS/numba settings (set here, before they
+        start, because they import NumPy before their own code runs).
+        """
+        from flexride.jobs.warmup import single_threaded_env
+
+        single_threaded_env()
+        self._recover_dead()
+        with self._lock:
+            self._procs = [self._spawn(i) for i in range(self.settings.workers)]
+        self._supervisor = threading.Thread(target=self._supervise, name="flexride-supervisor",
+                                            daemon=True)
+        self._supervisor.start()
+        log.info("embedded runner: %d worker process(es)", self.settings.workers)
+
+    def _spawn(self, slot: int):
+        p = self._ctx.Process(
+            target=worker_main,
+            args=(self.settings.model_dump(mode="json"), self._wake, self._stop, os.getpid()),
+            name=f"flexride-worker-{slot}",
+            daemon=False,
+        )
+        p.start()
+        return p
+
+    def _recover_dead(self) -> None:
+        """Requeue or fail jobs left running by embedded workers of this host that are gone."""
+        for job in self.store.running_jobs(KIND):
+            if job.worker and worker_is_dead(job.worker):
+                self._lost(job.id, job.worker, f"worker process {job.worker} is gone")
+
+    def _lost(self, job_id: str, worker: str, reason: str) -> None:
+        status = self.store.worker_lost(job_id, worker, reason)
+        log.warning("job %s: %s -> %s", job_id, reason, status)
+        if status == "queued":
+            self._wake.set()
+
+    def _supervise(self) -> None:
+        while not self._stopping.wait(0.5):
+            with self._lock:
+                for i, p in enumerate(self._procs):
+                    if p.is_alive() or self._stopping.is_set():
+                        continue
+                    name = worker_name(KIND, p.pid)
+                    reason = f"worker process {p.pid} died (exit code {p.exitcode})"
+                    log.error("embedded runner: %s", reason)
+                    try:
+                        for job in self.store.running_on([name]):
+                            self._lost(job.id, name, reason)
+                        self.store.worker_gone(name)
+                    except Exception:
+                        log.exception("embedded runner: recovery after %s failed", reason)
+                    self._procs[i] = self._spawn(i)
+                    self.restarts += 1
+
+    def stop(self) -> None:
+        """Stop the processes (a running job is interrupted and queued again)."""
+        self._stopping.set()
+        self._stop.set()
+        self._wake.set()
+        with self._lock:
+            procs = list(self._procs)
+        for p in procs:
+            if p.is_alive():
+                p.terminate()
+        for p in procs:
+            p.join(5.0)
+            if p.is_alive():
+                p.kill()
+                p.join(2.0)
+        for p in procs:
+            name = worker_name(KIND, p.pid)
+            try:
+                if self.store.requeue_interrupted(name, "interrupted by a service stop"):
+                    log.info("embedded runner: requeued the job of %s", name)
+                self.store.worker_gone(name)
+            except Exception:
+                log.exception("embedded runner: cannot requeue the jobs of %s", name)
+        if self._supervisor is not None:
+            self._supervisor.join(2.0)
+
+    # -- dispatch -----------------------------------------------------------------------------
+
+    def submit(self, job_ids: Sequence[str]) -> None:
+        """Wake the worker processes (they take queued jobs from the store)."""
+        self._wake.set()
+
+    def redispatch(self) -> int:
+        """Wake the workers if jobs are waiting (nothing can be lost in transit here)."""
+        n = len(self.store.queued_ids(KIND))
+        if n:
+            self._wake.set()
+        return n
+
+    def status(self) -> dict[str, Any]:
+        """Processes alive out of the pool size, and restarts so far."""
+        with self._lock:
+            alive = [p.pid for p in self._procs if p.is_alive()]
+        n = self.settings.workers
+        return {"kind": self.kind, "ok": len(alive) == n and not self._stopping.is_set(),
+                "detail": f"{len(alive)} of {n} worker process(es) alive on {hostname()}",
+                "processes": alive, "restarts": self.restarts}

@@ -1,0 +1,104 @@
+"""SQLAlchemy 2 models of the job store: jobs, studies, workers seen, schema version.
+
+Times are UTC seconds since the epoch (``float``): the same in SQLite and PostgreSQL, easy to
+compare in SQL (stale heartbeats) and converted to ISO 8601 by the API.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from sqlalchemy import JSON, Boolean, Float, ForeignKey, Index, Integer, String, Text
+from sqlalchemy.orm import DeclarativeBase, Mapped, deferred, mapped_column
+
+SCHEMA_VERSION = 1
+"""Version of the table layout; :func:`flexride.store.db.init_db` migrates older stores."""
+
+JOB_STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
+FINAL_STATUSES = ("succeeded", "failed", "cancelled")
+
+
+class Base(DeclarativeBase):
+    """Declarative base of the flexride tables."""
+
+    type_annotation_map = {dict[str, Any]: JSON, list[Any]: JSON}
+
+
+class Study(Base):
+    """A study: a base scenario and the axes varied; its jobs point back to it."""
+
+    __tablename__ = "flexride_studies"
+
+    id: Mapped[str] = mapped_column(String(32), primary_key=True)
+    name: Mapped[str] = mapped_column(String(120))
+    description: Mapped[str] = mapped_column(Text, default="")
+    preset: Mapped[str | None] = mapped_column(String(80), nullable=True)
+    created_at: Mapped[float] = mapped_column(Float, index=True)
+    n_jobs: Mapped[int] = mapped_column(Integer, default=0)
+    axes: Mapped[list[Any]] = mapped_column(JSON, default=list)
+    spec: Mapped[dict[str, Any]] = deferred(mapped_column(JSON, default=dict))
+
+
+class Job(Base):
+    """One simulation job: its scenario, state, progress, timings, summary and result file."""
+
+    __tablename__ = "flexride_jobs"
+    __table_args__ = (
+        Index("ix_flexride_jobs_status_created", "status", "created_at"),
+        Index("ix_flexride_jobs_study", "study_id", "study_index"),
+    )
+
+    id: Mapped[str] = mapped_column(String(32), primary_key=True)
+    name: Mapped[str] = mapped_column(String(120))
+    status: Mapped[str] = mapped_column(String(16), index=True)
+    progress: Mapped[float] = mapped_column(Float, default=0.0)
+    message: Mapped[str] = mapped_column(String(400), default="")
+    error: Mapped[str | None] = mapped_column(Text, nullable=True)
+    created_at: Mapped[float] = mapped_column(Float)
+    updated_at: Mapped[float] = mapped_column(Float)
+    started_at: Mapped[float | None] = mapped_column(Float, nullable=True)
+    finished_at: Mapped[float | None] = mapped_column(Float, nullable=True)
+    heartbeat_at: Mapped[float | None] = mapped_column(Float, nullable=True)
+    runner: Mapped[str] = mapped_column(String(16), default="embedded")
+    worker: Mapped[str | None] = mapped_column(String(200), nullable=True)
+    attempts: Mapped[int] = mapped_column(Integer, default=0)
+    max_attempts: Mapped[int] = mapped_column(Integer, default=2)
+    cancel_requested: Mapped[bool] = mapped_column(Boolean, default=False)
+    scenario_hash: Mapped[str] = mapped_column(String(64), index=True)
+    preset: Mapped[str | None] = mapped_column(String(80), nullable=True)
+    speed_kmh: Mapped[float | None] = mapped_column(Float, nullable=True)
+    duration_s: Mapped[float | None] = mapped_column(Float, nullable=True)
+    study_id: Mapped[str | None] = mapped_column(
+        String(32), ForeignKey("flexride_studies.id", ondelete="SET NULL"), nullable=True
+    )
+    study_index: Mapped[int | None] = mapped_column(Integer, nullable=True)
+    axes: Mapped[dict[str, Any]] = mapped_column(JSON, default=dict)
+    reused_from: Mapped[str | None] = mapped_column(String(32), nullable=True)
+    result_file: Mapped[str | None] = mapped_column(String(200), nullable=True)
+    wall_time_s: Mapped[float | None] = mapped_column(Float, nullable=True)
+    run_meta: Mapped[dict[str, Any]] = mapped_column(JSON, default=dict)
+    scenario: Mapped[dict[str, Any]] = deferred(mapped_column(JSON))
+    summary: Mapped[dict[str, Any] | None] = deferred(mapped_column(JSON, nullable=True))
+
+
+class WorkerSeen(Base):
+    """A worker process that reported itself (embedded pool process or Celery child)."""
+
+    __tablename__ = "flexride_workers"
+
+    name: Mapped[str] = mapped_column(String(200), primary_key=True)
+    kind: Mapped[str] = mapped_column(String(16))
+    hostname: Mapped[str] = mapped_column(String(120))
+    pid: Mapped[int] = mapped_column(Integer)
+    started_at: Mapped[float] = mapped_column(Float)
+    last_seen: Mapped[float] = mapped_column(Float, index=True)
+    current_job: Mapped[str | None] = mapped_column(String(32), nullable=True)
+
+
+class SchemaInfo(Base):
+    """One row: the schema version of this store."""
+
+    __tablename__ = "flexride_schema"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    version: Mapped[int] = mapped_column(Integer)

@@ -1,0 +1,442 @@
+"""The job store: every read and write of job, study and worker records goes through here.
+
+State changes that several processes may attempt at once (claiming a job, finishing it,
+declaring its worker lost) are single conditional transactions, so a job is run by one worker
+at a time and a late worker cannot overwrite the record of a job that was taken over, cancelled
+or deleted meanwhile.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from sqlalchemy import Engine, delete, func, select, update
+from sqlalchemy.orm import Session, defer, sessionmaker, undefer
+
+from flexride.store.db import get_engine, init_db, writer
+from flexride.store.models import FINAL_STATUSES, Job, Study, WorkerSeen
+
+DeadWorker = Callable[[str], bool]
+
+
+def now() -> float:
+    """Current UTC time in seconds since the epoch (the store's time unit)."""
+    return time.time()
+
+
+def _never_dead(_name: str) -> bool:
+    return False
+
+
+@dataclass(frozen=True)
+class Claim:
+    """Outcome of an attempt to start a job.
+
+    Attributes
+    ----------
+    claimed : bool
+        True if the caller now runs the job.
+    reason : str
+        Why not (``missing``, ``succeeded``, ``cancelled``, ``running elsewhere``, ``failed``...)
+        or ``claimed``.
+    job : Job or None
+        The record after the attempt (with its scenario when claimed).
+    """
+
+    claimed: bool
+    reason: str
+    job: Job | None = None
+
+
+class JobStore:
+    """Job, study and worker records in a SQL database.
+
+    Parameters
+    ----------
+    engine : sqlalchemy.Engine
+        Engine from :func:`flexride.store.db.create_store_engine` / ``get_engine``.
+    """
+
+    def __init__(self, engine: Engine):
+        self.engine = engine
+        self._read = sessionmaker(engine, expire_on_commit=False)
+        self._write = sessionmaker(writer(engine), expire_on_commit=False)
+
+    @classmethod
+    def from_url(cls, url: str, *, create: bool = True) -> JobStore:
+        """Store of the database at ``url`` (schema created or migrated when ``create``)."""
+        engine = get_engine(url)
+        if create:
+            init_db(engine)
+        return cls(engine)
+
+    # -- sessions ---------------------------------------------------------------------------
+
+    def reading(self) -> Session:
+        """A session for reads (deferred transaction)."""
+        return self._read()
+
+    def writing(self) -> Session:
+        """A session for writes (``BEGIN IMMEDIATE`` on SQLite)."""
+        return self._write()
+
+    def ping(self) -> float:
+        """Round-trip a trivial query; return its duration in s."""
+        t0 = time.perf_counter()
+        with self.reading() as s:
+            s.execute(select(1)).scalar_one()
+        return time.perf_counter() - t0
+
+    # -- jobs: creation and reads ------------------------------------------------------------
+
+    def add(self, jobs: Sequence[Job], study: Study | None = None) -> None:
+        """Insert new jobs (and their study) in one transaction."""
+        with self.writing() as s, s.begin():
+            if study is not None:
+                s.add(study)
+                s.flush()
+            s.add_all(list(jobs))
+
+    def get_job(self, job_id: str, *, scenario: bool = False, summary: bool = False) -> Job | None:
+        """The job ``job_id`` or None; ``scenario``/``summary`` also load those columns."""
+        opts = []
+        if scenario:
+            opts.append(undefer(Job.scenario))
+        if summary:
+            opts.append(undefer(Job.summary))
+        with self.reading() as s:
+            return s.get(Job, job_id, options=opts)
+
+    def list_jobs(
+        self,
+        *,
+        status: str | None = None,
+        study_id: str | None = None,
+        limit: int = 50,
+        offset: int = 0,
+    ) -> tuple[list[Job], int]:
+        """Jobs newest first with optional filters, and the total count matching them."""
+        q = select(Job)
+        cq = select(func.count()).select_from(Job)
+        if status is not None:
+            q, cq = q.where(Job.status == status), cq.where(Job.status == status)
+        if study_id is not None:
+            q, cq = q.where(Job.study_id == study_id), cq.where(Job.study_id == study_id)
+        q = q.order_by(Job.created_at.desc(), Job.id).limit(limit).offset(offset)
+        with self.reading() as s:
+            items = list(s.scalars(q))
+            total = int(s.execute(cq).scalar_one())
+        return items, total
+
+    def study_jobs(self, study_id: str, *, summary: bool = False) -> list[Job]:
+        """Jobs of a study in matrix order (with their summaries when asked)."""
+        q = select(Job).where(Job.study_id == study_id).order_by(Job.study_index)
+        if summary:
+            q = q.options(undefer(Job.summary))
+        with self.reading() as s:
+            return list(s.scalars(q))
+
+    def find_reusable(self, scenario_hash: str) -> Job | None:
+        """The newest succeeded job with this scenario hash and a result file."""
+        q = (
+            select(Job)
+            .options(undefer(Job.summary))
+            .where(Job.scenario_hash == scenario_hash, Job.status == "succeeded",
+                   Job.result_file.is_not(None))
+            .order_by(Job.finished_at.desc())
+            .limit(1)
+        )
+        with self.reading() as s:
+            return s.scalars(q).first()
+
+    def queued_ids(self, runner: str | None = None) -> list[str]:
+        """Ids of queued jobs, oldest first."""
+        q = select(Job.id).where(Job.status == "queued").order_by(Job.created_at)
+        if runner is not None:
+            q = q.where(Job.runner == runner)
+        with self.reading() as s:
+            return list(s.scalars(q))
+
+    def counts(self) -> dict[str, int]:
+        """Number of jobs per status."""
+        with self.reading() as s:
+            rows = s.execute(select(Job.status, func.count()).group_by(Job.status)).all()
+        return {status: int(n) for status, n in rows}
+
+    # -- jobs: running ------------------------------------------------------------------------
+
+    def _claim_row(self, s: Session, job: Job | None, worker: str, stale_before: float,
+                   dead: DeadWorker) -> Claim:
+        if job is None:
+            return Claim(False, "missing")
+        if job.status in FINAL_STATUSES:
+            return Claim(False, job.status, job)
+        t = now()
+        if job.cancel_requested:
+            job.status, job.finished_at, job.updated_at = "cancelled", t, t
+            job.message = "cancelled before it ran"
+            return Claim(False, "cancelled", job)
+        note = ""
+        if job.status == "running":
+            stale = job.heartbeat_at is None or job.heartbeat_at < stale_before
+            if not (stale or (job.worker is not None and dead(job.worker))):
+                return Claim(False, "running elsewhere", job)
+            note = f"previous attempt lost (worker {job.worker} stopped reporting); "
+        if job.attempts >= job.max_attempts:
+            job.status, job.finished_at, job.updated_at = "failed", t, t
+            job.error = (f"{note}the job's worker was lost {job.attempts} time(s) "
+                         f"(max_attempts = {job.max_attempts}); last worker {job.worker}")
+            job.message = "failed: worker lost"
+            return Claim(False, "failed", job)
+        job.status = "running"
+        job.attempts += 1
+        job.worker = worker
+        job.started_at = job.heartbeat_at = job.updated_at = t
+        job.progress = 0.0
+        job.message = f"{note}started (attempt {job.attempts} of {job.max_attempts})"
+        job.error = None
+        return Claim(True, "claimed", job)
+
+    def claim(self, job_id: str, worker: str, *, stale_before: float,
+              dead: DeadWorker = _never_dead) -> Claim:
+        """Start job ``job_id`` on ``worker`` if it is queued, or running on a lost worker.
+
+        Parameters
+        ----------
+        job_id : str
+            The job.
+        worker : str
+            Name of the claiming worker (``kind-pid@host``).
+        stale_before : float
+            A running job whose last heartbeat is older than this (epoch s) has lost its
+            worker and may be taken over.
+        dead : callable(worker name) -> bool
+            Tells whether a recorded worker is known to be dead (same host, no such process).
+
+        Returns
+        -------
+        Claim
+            ``claimed`` is True when the caller must run the job (attempts incremented). A job
+            whose attempts are used up is marked failed instead.
+        """
+        with self.writing() as s, s.begin():
+            job = s.get(Job, job_id, options=[undefer(Job.scenario)], with_for_update=True)
+            return self._claim_row(s, job, worker, stale_before, dead)
+
+    def claim_next(self, runner: str, worker: str, *, stale_before: float,
+                   dead: DeadWorker = _never_dead) -> Claim | None:
+        """Claim the oldest queued job of ``runner``; None when there is none."""
+        q = (
+            select(Job)
+            .options(undefer(Job.scenario))
+            .where(Job.status == "queued", Job.runner == runner)
+            .order_by(Job.created_at, Job.study_index)
+            .limit(1)
+            .with_for_update(skip_locked=True)
+        )
+        with self.writing() as s, s.begin():
+            job = s.scalars(q).first()
+            if job is None:
+                return None
+            return self._claim_row(s, job, worker, stale_before, dead)
+
+    def _update_running(self, job_id: str, worker: str, **values: Any) -> bool:
+        stmt = (
+            update(Job)
+            .where(Job.id == job_id, Job.status == "running", Job.worker == worker)
+            .values(**values)
+        )
+        with self.writing() as s, s.begin():
+            return s.execute(stmt).rowcount == 1
+
+    def report_progress(self, job_id: str, worker: str, fraction: float, message: str) -> bool:
+        """Record progress (and a heartbeat); False if the job is no longer ``worker``'s."""
+        t = now()
+        return self._update_running(
+            job_id, worker, progress=max(0.0, min(1.0, float(fraction))),
+            message=message[:400], heartbeat_at=t, updated_at=t,
+        )
+
+    def heartbeat(self, job_id: str, worker: str) -> bool:
+        """Record that ``worker`` still runs the job; False if it is no longer its job."""
+        return self._update_running(job_id, worker, heartbeat_at=now())
+
+    def should_stop(self, job_id: str, worker: str) -> bool:
+        """True if the run must stop: cancel requested, job deleted or taken over."""
+        with self.reading() as s:
+            row = s.execute(
+                select(Job.status, Job.worker, Job.cancel_requested).where(Job.id == job_id)
+            ).first()
+        if row is None:
+            return True
+        status, owner, cancel = row
+        return bool(cancel) or status != "running" or owner != worker
+
+    def finish(self, job_id: str, worker: str, status: str, **values: Any) -> bool:
+        """Set the final state of a job run by ``worker``; False if it is no longer its job."""
+        if status not in FINAL_STATUSES:
+            raise ValueError(f"not a final status: {status!r}")
+        t = now()
+        values.setdefault("message", status)
+        return self._update_running(job_id, worker, status=status, finished_at=t, updated_at=t,
+                                    heartbeat_at=t, **values)
+
+    def request_cancel(self, job_id: str) -> Job | None:
+        """Cancel a job: a queued one at once, a running one at its next cancellation check."""
+        with self.writing() as s, s.begin():
+            job = s.get(Job, job_id, with_for_update=True)
+            if job is None:
+                return None
+            t = now()
+            if job.status == "queued":
+                job.status, job.finished_at = "cancelled", t
+                job.message = "cancelled before it ran"
+                job.cancel_requested = True
+            elif job.status == "running":
+                job.cancel_requested = True
+                job.message = "cancel requested"
+            job.updated_at = t
+            return job
+
+    def delete_job(self, job_id: str) -> Job | None:
+        """Delete a job record; return it (its result file is the caller's to remove)."""
+        with self.writing() as s, s.begin():
+            job = s.get(Job, job_id)
+            if job is None:
+                return None
+            s.delete(job)
+            return job
+
+    def worker_lost(self, job_id: str, worker: str, reason: str) -> str | None:
+        """Declare ``worker`` lost while running the job: requeue it, or fail it when its
+        attempts are used up. Returns the new status, or None if the job was not ``worker``'s.
+        """
+        with self.writing() as s, s.begin():
+            job = s.get(Job, job_id, with_for_update=True)
+            if job is None or job.status != "running" or job.worker != worker:
+                return None
+            t = now()
+            job.updated_at = t
+            if job.cancel_requested:
+                job.status, job.finished_at, job.message = "cancelled", t, f"cancelled ({reason})"
+            elif job.attempts < job.max_attempts:
+                job.status, job.progress, job.heartbeat_at = "queued", 0.0, None
+                job.message = f"requeued after attempt {job.attempts}: {reason}"
+            else:
+                job.status, job.finished_at = "failed", t
+                job.error = f"{reason}; gave up after {job.attempts} attempt(s)"
+                job.message = "failed: worker lost"
+            return job.status
+
+    def stale_running(self, stale_before: float) -> list[Job]:
+        """Running jobs whose last heartbeat is older than ``stale_before``."""
+        q = select(Job).where(Job.status == "running", Job.heartbeat_at < stale_before)
+        with self.reading() as s:
+            return list(s.scalars(q))
+
+    def running_jobs(self, runner: str | None = None) -> list[Job]:
+        """Running jobs (of one runner kind when given)."""
+        q = select(Job).where(Job.status == "running")
+        if runner is not None:
+            q = q.where(Job.runner == runner)
+        with self.reading() as s:
+            return list(s.scalars(q))
+
+    def running_on(self, workers: Sequence[str]) -> list[Job]:
+        """Running jobs of the named workers."""
+        if not workers:
+            return []
+        q = select(Job).where(Job.status == "running", Job.worker.in_(list(workers)))
+        with self.reading() as s:
+            return list(s.scalars(q))
+
+    def requeue_interrupted(self, worker: str, reason: str) -> bool:
+        """Put a job interrupted by a service shutdown back in the queue (attempt not counted)."""
+        stmt = (
+            update(Job)
+            .where(Job.status == "running", Job.worker == worker)
+            .values(status="queued", attempts=Job.attempts - 1, progress=0.0, heartbeat_at=None,
+                    message=f"requeued: {reason}", updated_at=now())
+        )
+        with self.writing() as s, s.begin():
+            return s.execute(stmt).rowcount > 0
+
+    # -- studies ------------------------------------------------------------------------------
+
+    def get_study(self, study_id: str, *, spec: bool = False) -> Study | None:
+        """The study ``study_id`` or None."""
+        opts = [undefer(Study.spec)] if spec else []
+        with self.reading() as s:
+            return s.get(Study, study_id, options=opts)
+
+    def list_studies(self, *, limit: int = 50, offset: int = 0) -> tuple[list[Study], int]:
+        """Studies newest first and their total count."""
+        q = select(Study).order_by(Study.created_at.desc(), Study.id).limit(limit).offset(offset)
+        with self.reading() as s:
+            items = list(s.scalars(q))
+            total = int(s.execute(select(func.count()).select_from(Study)).scalar_one())
+        return items, total
+
+    def study_status_counts(self, study_ids: Sequence[str]) -> dict[str, dict[str, int]]:
+        """Per study, the number of its jobs in each status."""
+        if not study_ids:
+            return {}
+        q = (
+            select(Job.study_id, Job.status, func.count())
+            .where(Job.study_id.in_(list(study_ids)))
+            .group_by(Job.study_id, Job.status)
+        )
+        out: dict[str, dict[str, int]] = {sid: {} for sid in study_ids}
+        with self.reading() as s:
+            for sid, status, n in s.execute(q):
+                out[sid][status] = int(n)
+        return out
+
+    def delete_study(self, study_id: str) -> tuple[Study | None, list[Job]]:
+        """Delete a study and its jobs; return them (result files are the caller's)."""
+        with self.writing() as s, s.begin():
+            study = s.get(Study, study_id)
+            if study is None:
+                return None, []
+            jobs = list(s.scalars(select(Job).options(defer(Job.scenario))
+                                  .where(Job.study_id == study_id)))
+            s.execute(delete(Job).where(Job.study_id == study_id))
+            s.delete(study)
+            return study, jobs
+
+    # -- workers ------------------------------------------------------------------------------
+
+    def worker_seen(self, name: str, kind: str, hostname: str, pid: int,
+                    current_job: str | None = None) -> None:
+        """Record that a worker process is alive (insert or update its row)."""
+        t = now()
+        with self.writing() as s, s.begin():
+            row = s.get(WorkerSeen, name)
+            if row is None:
+                s.add(WorkerSeen(name=name, kind=kind, hostname=hostname, pid=pid, started_at=t,
+                                 last_seen=t, current_job=current_job))
+            else:
+                row.last_seen, row.current_job = t, current_job
+
+    def worker_gone(self, name: str) -> None:
+        """Remove a worker that stopped cleanly."""
+        with self.writing() as s, s.begin():
+            s.execute(delete(WorkerSeen).where(WorkerSeen.name == name))
+
+    def workers(self, seen_after: float | None = None) -> list[WorkerSeen]:
+        """Workers seen after ``seen_after`` (all when None), most recent first."""
+        q = select(WorkerSeen).order_by(WorkerSeen.last_seen.desc())
+        if seen_after is not None:
+            q = q.where(WorkerSeen.last_seen >= seen_after)
+        with self.reading() as s:
+            return list(s.scalars(q))
+
+    def forget_workers(self, seen_before: float) -> int:
+        """Delete worker rows not seen since ``seen_before``."""
+        with self.writing() as s, s.begin():
+            return s.execute(
+                delete(WorkerSeen).where(WorkerSeen.last_seen < seen_before)
+            ).rowcount

@@ -1,0 +1,61 @@
+"""Built-in studies: the paper's Table 3 matrix and its rigid-vs-flexible comparison (Table 2).
+
+Each preset is the request body it stands for (``POST /api/v1/studies`` with
+``{"preset": NAME}``); fields given with the preset replace the preset's (e.g. a shorter
+``overrides: {"duration_s": 2, "distance_m": null}`` for a quick look).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from flexride.errors import ScenarioError
+from flexride.model.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH
+
+STUDY_PRESETS: dict[str, dict[str, Any]] = {
+    "paper-table3": {
+        "name": "paper-table3",
+        "description": "Paper Table 3: four line/excitation conditions (random irregularity on "
+        "straight track and on an R = 800 m curve, corrugation, settlement) at 50, 60, 70 and "
+        "80 km/h, 16 jobs. Body model of the base scenario (rigid); give body_models "
+        "['flexible'] for the paper's flexible car body.",
+        "base": {"preset": "paper-metro"},
+        "conditions": list(PAPER_CONDITIONS),
+        "speeds_kmh": [float(v) for v in PAPER_SPEEDS_KMH],
+    },
+    "paper-table2": {
+        "name": "paper-table2",
+        "description": "Paper Table 2: flexible against rigid car body and frames, random "
+        "irregularity on straight track at 80 km/h (Sperling and rms indices at every point).",
+        "base": {"preset": "paper-metro"},
+        "conditions": ["random-straight"],
+        "speeds_kmh": [80.0],
+        "body_models": ["rigid", "flexible"],
+    },
+    "paper-table3-flexible-vs-rigid": {
+        "name": "paper-table3-flexible-vs-rigid",
+        "description": "The 16 conditions of paper Table 3, each with rigid and with flexible "
+        "car body and frames (32 jobs): Table 2's comparison over all conditions and speeds.",
+        "base": {"preset": "paper-metro"},
+        "conditions": list(PAPER_CONDITIONS),
+        "speeds_kmh": [float(v) for v in PAPER_SPEEDS_KMH],
+        "body_models": ["rigid", "flexible"],
+    },
+}
+
+
+def study_preset(name: str) -> dict[str, Any]:
+    """The request body of study preset ``name`` (a copy).
+
+    Raises
+    ------
+    ScenarioError
+        Unknown name (the message lists the presets).
+    """
+    import copy
+
+    if name not in STUDY_PRESETS:
+        raise ScenarioError(
+            f"preset: unknown study preset {name!r}; available: {', '.join(STUDY_PRESETS)}"
+        )
+    return copy.deepcopy(STUDY_PRESETS[name])

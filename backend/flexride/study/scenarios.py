@@ -1,0 +1,229 @@
+"""From a request to a validated scenario: presets and overrides, the content hash used to
+reuse results, and the submission check (assembly, statics, time-step stability).
+
+The submission check is cached by a *stability key*: the scenario without the fields that do
+not change the linearised system at t = 0 (name, description, speed, length, excitation,
+outputs) and with rigid bodies. Speed does not enter the estimate (the creep "damper" ∝ 1/V and
+the relaxation time a/V cancel, see :mod:`flexride.solver.stability`), and the elastic modes of
+flexible bodies (≤ 100 Hz by default) lie far below the rail and contact modes that set the
+limit, so one check serves a whole study. The worker checks the full scenario again before it
+runs (``solver.check_stability``), so a miss still ends as a failed job with the step to use.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import json
+import math
+import threading
+from collections import OrderedDict
+from typing import Any
+
+from flexride.errors import FlexrideError, ScenarioError, StabilityError
+from flexride.model.presets import preset_dict
+from flexride.model.scenario import (
+    Scenario,
+    apply_overrides,
+    resolve_preset_base,
+    scenario_from_dict,
+)
+
+_MAX_PATH_DEPTH = 12
+
+
+def safe_overrides(data: dict[str, Any], overrides: dict[str, Any] | None,
+                   source: str = "overrides") -> dict[str, Any]:
+    """Apply dotted-path overrides, turning any failure into a :class:`ScenarioError`.
+
+    Parameters
+    ----------
+    data : dict
+        Scenario mapping (presets already resolved).
+    overrides : dict, optional
+        ``{"solver.dt": 5e-5, "excitation.0.seed": 3}``.
+    source : str
+        Prefix of error messages.
+    """
+    if not overrides:
+        return data
+    if not isinstance(overrides, dict):
+        raise ScenarioError(f"{source}: must be a mapping of dotted paths to values")
+    for path in overrides:
+        parts = path.split(".") if isinstance(path, str) else []
+        if not parts or any(not p.strip() for p in parts) or len(parts) > _MAX_PATH_DEPTH:
+            raise ScenarioError(f"{source}: {path!r} is not a dotted field path like 'solver.dt'")
+    out = data
+    for path, value in overrides.items():
+        try:
+            out = apply_overrides(out, {path: value})
+        except (KeyError, IndexError, ValueError, TypeError, AttributeError) as exc:
+            raise ScenarioError(f"{source}: cannot set {path!r}: {exc}") from None
+    return out
+
+
+def _check_finite(value: Any, path: str = "") -> None:
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ScenarioError(f"scenario: {path or '(root)'}: must be a finite number, got {value}")
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _check_finite(v, f"{path}.{k}" if path else str(k))
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            _check_finite(v, f"{path}.{i}" if path else str(i))
+
+
+def resolve_scenario(
+    scenario: dict[str, Any] | None = None,
+    preset: str | None = None,
+    overrides: dict[str, Any] | None = None,
+) -> Scenario:
+    """Validated scenario from a full mapping (which may start from ``preset: NAME``) or from a
+    preset name, with optional dotted-path overrides.
+
+    Raises
+    ------
+    ScenarioError
+        Neither or both given, unknown preset, bad override path, or an invalid field (the
+        message names the path and the allowed range).
+    """
+    if (scenario is None) == (preset is None):
+        raise ScenarioError("give either 'scenario' or 'preset' (not both)")
+    if preset is not None:
+        data = preset_dict(preset)
+        source = f"preset {preset}"
+    else:
+        if not isinstance(scenario, dict):
+            raise ScenarioError("scenario: must be a mapping")
+        data = resolve_preset_base(scenario) if "preset" in scenario else scenario
+        source = "scenario"
+    data = safe_overrides(data, overrides)
+    result = scenario_from_dict(data, source=source)
+    _check_finite(result.model_dump(mode="json"))
+    return result
+
+
+def canonical_json(data: Any) -> str:
+    """Deterministic JSON text (sorted keys, no spaces)."""
+    return json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def scenario_hash(scenario: Scenario) -> str:
+    """Content hash of what determines a run's numbers (name and description left out; the
+    flexride version included, so an upgrade never reuses old results)."""
+    from flexride import __version__
+
+    data = scenario.model_dump(mode="json")
+    data.pop("name", None)
+    data.pop("description", None)
+    return hashlib.sha256(
+        canonical_json({"flexride": __version__, "scenario": data}).encode()
+    ).hexdigest()
+
+
+def stability_key(scenario: Scenario) -> str:
+    """Hash of the parts of a scenario that the submission check depends on (module docs)."""
+    data = scenario.model_dump(mode="json")
+    for key in ("name", "description", "speed_kmh", "duration_s", "distance_m", "excitation",
+                "output"):
+        data.pop(key, None)
+    for body in ("carbody", "frames"):
+        data.get("bodies", {}).get(body, {}).update(model="rigid")
+    return hashlib.sha256(canonical_json(data).encode()).hexdigest()
+
+
+def flexible_available() -> bool:
+    """Whether this installation can build flexible bodies (``flexride.fem.flexible``)."""
+    try:
+        return importlib.util.find_spec("flexride.fem.flexible") is not None
+    except (ImportError, ValueError):
+        return False
+
+
+def rigid_proxy(scenario: Scenario) -> Scenario:
+    """The scenario with rigid car body and frames (what the submission check assembles)."""
+    data = scenario.model_dump(mode="json")
+    data["bodies"]["carbody"]["model"] = "rigid"
+    data["bodies"]["frames"]["model"] = "rigid"
+    return Scenario.model_validate(data)
+
+
+class PreflightCache:
+    """Submission checks by stability key (thread-safe, least recently used first out)."""
+
+    def __init__(self, size: int = 128):
+        self.size = size
+        self._items: OrderedDict[str, dict[str, Any] | StabilityError] = OrderedDict()
+        self._lock = threading.Lock()
+        self._key_locks: dict[str, threading.Lock] = {}
+
+    def clear(self) -> None:
+        """Forget every cached check."""
+        with self._lock:
+            self._items.clear()
+
+    def check(self, scenario: Scenario) -> dict[str, Any]:
+        """Check ``scenario`` for submission (see :func:`check_submission`), cached."""
+        key = stability_key(scenario)
+        with self._lock:
+            key_lock = self._key_locks.setdefault(key, threading.Lock())
+        with key_lock:  # one computation per key, concurrent requests wait for it
+            with self._lock:
+                hit = self._items.get(key)
+                if hit is not None:
+                    self._items.move_to_end(key)
+            if hit is None:
+                try:
+                    hit = _preflight(scenario)
+                except StabilityError as exc:
+                    hit = exc
+                with self._lock:
+                    self._items[key] = hit
+                    while len(self._items) > self.size:
+                        self._items.popitem(last=False)
+        if isinstance(hit, StabilityError):
+            raise hit
+        return hit
+
+
+def _preflight(scenario: Scenario) -> dict[str, Any]:
+    from flexride.solver import preflight
+
+    try:
+        info = preflight(rigid_proxy(scenario))
+    except FlexrideError:
+        raise
+    except Exception as exc:  # a schema-valid scenario the solver cannot assemble
+        raise ScenarioError(
+            f"scenario: cannot be assembled: {type(exc).__name__}: {exc}"
+        ) from None
+    stab = info.get("stability") or {}
+    return {"n_dof": info["n_dof"], "output_rate_hz": info["output_rate"],
+            "stability": {k: stab[k] for k in ("dt_max", "dt_suggested", "critical_dof",
+                                               "critical_frequency_hz") if k in stab}}
+
+
+PREFLIGHT = PreflightCache()
+"""The process-wide submission-check cache."""
+
+
+def check_submission(scenario: Scenario, *, cache: PreflightCache = PREFLIGHT) -> dict[str, Any]:
+    """Refuse a scenario that cannot run: flexible bodies not installed, assembly failure, or a
+    time step beyond the stability limit (:class:`StabilityError` with ``dt_suggested``).
+
+    Returns
+    -------
+    dict
+        ``n_dof``, ``output_rate_hz`` and ``stability`` (``dt_max``, ``dt_suggested``...).
+    """
+    bodies = scenario.bodies
+    flex = [f"bodies.{b}.model" for b in ("carbody", "frames")
+            if getattr(bodies, b).model == "flexible"]
+    if flex and not flexible_available():
+        raise ScenarioError(
+            f"scenario: {flex[0]}: flexible bodies are not available in this installation "
+            "(module flexride.fem.flexible is missing); use 'rigid'"
+        )
+    if not scenario.solver.check_stability:
+        return {"stability": None}
+    return cache.check(scenario)

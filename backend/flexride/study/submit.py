@@ -1,0 +1,119 @@
+"""Submission: turn validated scenarios into job records (or reuse stored results) and hand
+the queued ones to the runner. Used by the API for single jobs and for studies."""
+
+from __future__ import annotations
+
+import logging
+import uuid
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from flexride.jobs.base import JobRunner
+from flexride.model.scenario import Scenario
+from flexride.settings import Settings
+from flexride.store import Job, JobStore, ResultFiles, Study, now
+from flexride.study.expand import StudyPlan
+from flexride.study.scenarios import PREFLIGHT, PreflightCache, check_submission, scenario_hash
+
+log = logging.getLogger(__name__)
+
+
+def new_id() -> str:
+    """A new job or study id (32 hex digits)."""
+    return uuid.uuid4().hex
+
+
+@dataclass
+class Submitted:
+    """A created job: its record, whether stored results were reused, the submission check."""
+
+    job: Job
+    reused: bool
+    preflight: dict[str, Any] | None
+
+
+class Submitter:
+    """Creates jobs and studies.
+
+    Parameters
+    ----------
+    store : JobStore
+        Where records go.
+    files : ResultFiles
+        Results directory (to give a reusing job its own copy of the file).
+    runner : JobRunner
+        Who runs queued jobs.
+    settings : Settings
+        ``max_attempts``, ``reuse_results``, ``preflight``.
+    cache : PreflightCache
+        Submission checks by stability key.
+    """
+
+    def __init__(self, store: JobStore, files: ResultFiles, runner: JobRunner,
+                 settings: Settings, cache: PreflightCache = PREFLIGHT):
+        self.store, self.files, self.runner, self.settings = store, files, runner, settings
+        self.cache = cache
+
+    def _record(self, scenario: Scenario, *, name: str, preset: str | None, reuse: bool,
+                study_id: str | None = None, index: int | None = None,
+                axes: dict[str, Any] | None = None) -> Submitted:
+        t = now()
+        job_id = new_id()
+        digest = scenario_hash(scenario)
+        common = dict(id=job_id, name=name[:120], created_at=t, updated_at=t,
+                      runner=self.runner.kind, max_attempts=self.settings.max_attempts,
+                      scenario_hash=digest, preset=preset, speed_kmh=scenario.speed_kmh,
+                      duration_s=scenario.duration, study_id=study_id, study_index=index,
+                      axes=axes or {}, scenario=scenario.model_dump(mode="json"),
+                      cancel_requested=False, attempts=0)
+        if reuse and self.settings.reuse_results:
+            src = self.store.find_reusable(digest)
+            if src is not None and self.files.exists(src.result_file):
+                file_name = self.files.copy(src.result_file, job_id)
+                job = Job(**common, status="succeeded", progress=1.0,
+                          message=f"results reused from job {src.id}", started_at=t,
+                          finished_at=t, heartbeat_at=t, reused_from=src.id,
+                          result_file=file_name, summary=src.summary, run_meta=src.run_meta,
+                          wall_time_s=0.0)
+                return Submitted(job, True, None)
+        pre = check_submission(scenario, cache=self.cache) if self.settings.preflight else None
+        job = Job(**common, status="queued", progress=0.0, message="queued", run_meta={})
+        return Submitted(job, False, pre)
+
+    def _add(self, items: Sequence[Submitted], study: Study | None = None) -> None:
+        try:
+            self.store.add([s.job for s in items], study)
+        except Exception:
+            for s in items:
+                if s.reused:
+                    self.files.delete(s.job.result_file)
+            raise
+        queued = [s.job.id for s in items if not s.reused]
+        if queued:
+            self.runner.submit(queued)
+
+    def submit_job(self, scenario: Scenario, *, name: str | None = None,
+                   preset: str | None = None, reuse: bool = True) -> Submitted:
+        """Create one job (checked, or finished at once from reused results) and queue it.
+
+        Raises
+        ------
+        ScenarioError, StabilityError
+            The submission check refused the scenario.
+        """
+        sub = self._record(scenario, name=name or scenario.name, preset=preset, reuse=reuse)
+        self._add([sub])
+        return sub
+
+    def submit_study(self, plan: StudyPlan) -> tuple[Study, list[Submitted]]:
+        """Create a study and all its jobs in one transaction, then queue them."""
+        study_id = new_id()
+        subs = [self._record(pj.scenario, name=pj.name, preset=None, reuse=plan.reuse,
+                             study_id=study_id, index=pj.index, axes=pj.axes)
+                for pj in plan.jobs]
+        study = Study(id=study_id, name=plan.name[:120], description=plan.description,
+                      preset=plan.preset, created_at=now(), n_jobs=len(subs),
+                      axes=[ax.describe() for ax in plan.axes], spec=plan.request)
+        self._add(subs, study)
+        return study, subs
