@@ -3,10 +3,11 @@
 
 Usage (from the repository root, with nothing but python3 installed)::
 
+    python3 tools/dev.py serve    # create .venv, install flexride, start the service + dashboard
     python3 tools/dev.py run      # create .venv, install flexride, run the paper's 80 km/h case
     python3 tools/dev.py test     # create .venv, install flexride with test extras, run pytest
 
-Extra arguments after ``run`` go to ``flexride run``; after ``test`` they go to pytest.
+Extra arguments go to ``flexride serve``, ``flexride run`` or pytest respectively.
 """
 
 from __future__ import annotations
@@ -45,10 +46,13 @@ def ensure_venv(extras: str = "") -> None:
 
 
 def main(argv: list[str]) -> int:
-    if not argv or argv[0] not in {"run", "test"}:
+    if not argv or argv[0] not in {"serve", "run", "test"}:
         print(__doc__)
         return 2
     cmd, rest = argv[0], argv[1:]
+    if cmd == "serve":
+        ensure_venv()
+        return subprocess.call([str(BIN / "flexride"), "serve", *rest], cwd=ROOT)
     if cmd == "run":
         ensure_venv()
         args = rest or [

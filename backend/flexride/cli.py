@@ -248,6 +248,18 @@ def analyze(
             console.print(safety)
 
 
+def _register_subcommands() -> None:
+    """Service commands (``serve``, ``worker``) and the finite-element tools (``fe``)."""
+    from flexride.fe_cli import fe_app
+    from flexride.service_cli import register
+
+    register(app)
+    app.add_typer(fe_app, name="fe")
+
+
+_register_subcommands()
+
+
 def main() -> None:
     """Entry point of the ``flexride`` command."""
     app()

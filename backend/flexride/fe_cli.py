@@ -30,7 +30,8 @@ _err = Console(stderr=True, highlight=False, soft_wrap=True)
 KindArg = Annotated[str, typer.Argument(help="carbody or frame")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")]
 SizeOpt = Annotated[
-    float, typer.Option("--element-size", help="Car-body shell element size (m).", min=0.05, max=1.0)
+    float,
+    typer.Option("--element-size", help="Car-body shell element size (m).", min=0.05, max=1.0),
 ]
 PresetOpt = Annotated[str, typer.Option("--preset", help="Preset whose vehicle is used.")]
 
@@ -67,13 +68,14 @@ def modes_cmd(
     """Free–free modes (frequency, classification) and mass properties of a default model."""
     try:
         from flexride.fem.classify import classify_mode, classify_plane_frame_mode
-        from flexride.fem.eigen import solve_modes
+        from flexride.fem.eigen import free_free_modes
         from flexride.fem.flexible import build_fe_model
         from flexride.fem.report import mass_summary
+        from flexride.fem.rigid import rigid_body_vectors
 
         model, target = build_fe_model(_kind(kind), _vehicle(preset), element_size)
         K, M = model.assemble()
-        modes = solve_modes(K, M, n_modes=n_modes + 6)
+        modes = free_free_modes(K, M, rigid_body_vectors(model.nodes), n_elastic=n_modes)
         rows = []
         for k in range(6, modes.frequencies.size):
             phi = modes.shapes[:, k]
@@ -127,13 +129,17 @@ def _print_mass(m: dict) -> None:
 @fe_app.command("reduce")
 def reduce_cmd(
     kind: KindArg,
-    method: Annotated[str, typer.Option("--method", help="guyan, craig-bampton or modal")] = "modal",
+    method: Annotated[
+        str, typer.Option("--method", help="guyan, craig-bampton or modal")
+    ] = "modal",
     cutoff: Annotated[float, typer.Option("--cutoff", help="Cut-off frequency (Hz).")] = 100.0,
     as_json: JsonOpt = False,
     element_size: SizeOpt = 0.2,
     preset: PresetOpt = "paper-metro",
     max_rows: Annotated[int, typer.Option("--rows", min=1)] = 40,
-    no_cache: Annotated[bool, typer.Option("--no-cache", help="Rebuild, do not use the cache.")] = False,
+    no_cache: Annotated[
+        bool, typer.Option("--no-cache", help="Rebuild, do not use the cache.")
+    ] = False,
 ) -> None:
     """Reduce a default model and print the reduction report."""
     try:
@@ -239,8 +245,12 @@ def export_cmd(
         from flexride.fem.flexible import build_flexible_body
 
         fb = build_flexible_body(
-            _kind(kind), _vehicle(preset), method=method, cutoff_hz=cutoff,
-            element_size=element_size, name=kind,
+            _kind(kind),
+            _vehicle(preset),
+            method=method,
+            cutoff_hz=cutoff,
+            element_size=element_size,
+            name=kind,
         )
     except FlexrideError as exc:
         _fail(str(exc))

@@ -24,7 +24,11 @@ def module_cache(tmp_path_factory):
 @pytest.fixture(scope="module")
 def carbody(vehicle, module_cache):
     return build_flexible_body(
-        "carbody", vehicle, method="modal", cutoff_hz=15.0, element_size=0.5,
+        "carbody",
+        vehicle,
+        method="modal",
+        cutoff_hz=15.0,
+        element_size=0.5,
         extra_points={"SEAT1": (3.0, 1.0, 1.6)},
     )
 
@@ -48,8 +52,13 @@ def test_carbody_modal_body(carbody, vehicle):
 def test_shape_at_and_markers(carbody, vehicle):
     b = carbody.body
     g = vehicle.geometry
-    rel = np.array([g.bogie_centre_spacing / 2, g.secondary_lateral_half_spacing,
-                    g.secondary_height - b.cg_height])
+    rel = np.array(
+        [
+            g.bogie_centre_spacing / 2,
+            g.secondary_lateral_half_spacing,
+            g.secondary_height - b.cg_height,
+        ]
+    )
     np.testing.assert_allclose(carbody.shape_at(rel), b.elastic_shapes["as1L"])
     b.add_marker("as1L_solver", rel, elastic=carbody.shape_at(rel))
     assert b.markers["as1L_solver"].shape == (6, b.n_dof)
@@ -60,8 +69,15 @@ def test_shape_at_and_markers(carbody, vehicle):
 
 def test_cache_hit_is_fast_and_identical(carbody, vehicle, module_cache):
     again = build_flexible_body(
-        "carbody", vehicle, method="modal", cutoff_hz=15.0, element_size=0.5,
-        extra_points={"SEAT1": (3.0, 1.0, 1.6)}, name="cb2", x_ref=1.0, damping_ratio=0.05,
+        "carbody",
+        vehicle,
+        method="modal",
+        cutoff_hz=15.0,
+        element_size=0.5,
+        extra_points={"SEAT1": (3.0, 1.0, 1.6)},
+        name="cb2",
+        x_ref=1.0,
+        damping_ratio=0.05,
     )
     assert again.from_cache and not carbody.from_cache
     assert again.build_seconds < 0.5
@@ -74,8 +90,9 @@ def test_cache_hit_is_fast_and_identical(carbody, vehicle, module_cache):
 
 def test_rayleigh_damping_option(vehicle, module_cache):
     ray = RayleighDamping(5.0, 10.0, 0.02, 0.03)
-    fb = build_flexible_body("frame", vehicle, cutoff_hz=80.0, damping_ratio=ray, name="frame1",
-                             x_ref=6.3)
+    fb = build_flexible_body(
+        "frame", vehicle, cutoff_hz=80.0, damping_ratio=ray, name="frame1", x_ref=6.3
+    )
     np.testing.assert_allclose(fb.body.elastic_damping, ray.ratios(fb.body.elastic_frequencies))
     assert fb.body.cg_height == pytest.approx(0.65, abs=1e-3)
     assert fb.body.elastic_shapes["ab1L"].shape == (6, fb.body.n_elastic)

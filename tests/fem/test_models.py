@@ -20,13 +20,13 @@ def frame(vehicle):
 
 
 def test_carbody_mass_properties_match_table4(carbody, vehicle):
-    model, target = carbody
+    model, _ = carbody
     props = model.mass_properties()
     c = vehicle.carbody
     assert props.mass == pytest.approx(c.mass, rel=1e-3)
     assert props.cg[2] == pytest.approx(c.cg_height, abs=1e-3)
     assert abs(props.cg[0]) < 1e-6 and abs(props.cg[1]) < 1e-6
-    for got, want in zip(np.diag(props.inertia), (c.ixx, c.iyy, c.izz)):
+    for got, want in zip(np.diag(props.inertia), (c.ixx, c.iyy, c.izz), strict=False):
         assert got == pytest.approx(want, rel=0.01)
     # products of inertia vanish (symmetric model): principal axes = body axes
     off = props.inertia - np.diag(np.diag(props.inertia))

@@ -8,7 +8,7 @@ import scipy.sparse.linalg as spla
 
 from flexride.errors import FEModelError
 from flexride.fem.eigen import solve_modes
-from flexride.fem.flexible import build_fe_model, dof_layout
+from flexride.fem.flexible import build_fe_model
 from flexride.fem.modal_body import reduced_to_modal_body
 from flexride.fem.reduction import craig_bampton, guyan, node_dofs, rigid_basis_for
 from flexride.fem.rigid import rigid_body_vectors
@@ -23,7 +23,9 @@ def frame(vehicle):
 
 def test_guyan_is_exact_for_static_loads_at_masters(frame):
     model, K, M = frame
-    masters = node_dofs([model.named_nodes[n] for n in ("ab1L", "ab1R", "ab2L", "ab2R", "asL", "asR")])
+    masters = node_dofs(
+        [model.named_nodes[n] for n in ("ab1L", "ab1R", "ab2L", "ab2R", "asL", "asR")]
+    )
     red = guyan(K, M, masters)
     # hold the first master node (six DOFs) and load the others
     rng = np.random.default_rng(3)
@@ -66,7 +68,6 @@ def test_craig_bampton_converges_to_the_full_model(frame):
 
 def test_modal_truncation_reproduces_retained_frequencies(frame):
     model, K, M = frame
-    P, R, _ = dof_layout(model)
     body = reduced_to_modal_body("frame", model.nodes, M, K, cutoff_hz=120.0)
     full = solve_modes(K, M, f_max=120.0).frequencies[6:]
     np.testing.assert_allclose(body.body.elastic_frequencies, full, rtol=1e-8)

@@ -2,8 +2,11 @@
 
 Location: ``$FLEXRIDE_CACHE_DIR`` (default ``~/.cache/flexride``) / ``fem-<flexride version>``,
 as for the numba cache (:mod:`flexride._numba_env`), so an upgrade never loads a stale body.
-Each entry is an uncompressed ``.npz`` of arrays plus a ``.json`` of everything else, written
-atomically (temporary file, then rename) so concurrent processes never read half an entry.
+Each entry is an uncompressed ``.npz`` of the small arrays, one ``.npy`` per large array (the
+nodal mode shapes, memory-mapped on load so a hit costs milliseconds whatever the number of
+modes) and a ``.json`` of everything else, each written atomically (temporary file, then
+rename; the ``.json`` last, and a load needs all files) so concurrent processes never read half
+an entry.
 """
 
 from __future__ import annotations
@@ -18,7 +21,9 @@ from typing import Any
 import numpy as np
 
 #: Bump when the content or layout of cached entries changes.
-CACHE_SCHEMA = 1
+CACHE_SCHEMA = 2
+#: Arrays stored as separate ``.npy`` files and memory-mapped when loaded.
+MAPPED = ("shapes",)
 
 
 def _version() -> str:
@@ -63,15 +68,20 @@ def content_hash(inputs: dict) -> str:
 
 
 def load(key: str) -> tuple[dict[str, np.ndarray], dict] | None:
-    """Arrays and metadata of entry ``key``, or None when absent or unreadable."""
+    """Arrays and metadata of entry ``key``, or None when absent or unreadable.
+
+    Large arrays (:data:`MAPPED`) are read-only memory maps.
+    """
     d = cache_dir()
     npz, meta = d / f"{key}.npz", d / f"{key}.json"
     if not (npz.is_file() and meta.is_file()):
         return None
     try:
+        info = json.loads(meta.read_text(encoding="utf-8"))
         with np.load(npz, allow_pickle=False) as data:
             arrays = {k: data[k] for k in data.files}
-        info = json.loads(meta.read_text(encoding="utf-8"))
+        for name in info.get("_mapped", []):
+            arrays[name] = np.load(d / f"{key}.{name}.npy", mmap_mode="r", allow_pickle=False)
     except (OSError, ValueError, json.JSONDecodeError):
         return None
     return arrays, info
@@ -80,23 +90,29 @@ def load(key: str) -> tuple[dict[str, np.ndarray], dict] | None:
 def store(key: str, arrays: dict[str, np.ndarray], info: dict) -> Path | None:
     """Write entry ``key``; returns its path, or None when the directory is not writable."""
     d = cache_dir()
-    tmp: list[str] = []
+    tmp: list[tuple[str, Path]] = []
+    mapped = [k for k in arrays if k in MAPPED]
+    small = {k: v for k, v in arrays.items() if k not in MAPPED}
     try:
         d.mkdir(parents=True, exist_ok=True)
+        for name in mapped:
+            with tempfile.NamedTemporaryFile(dir=d, suffix=".npy.tmp", delete=False) as fh:
+                tmp.append((fh.name, d / f"{key}.{name}.npy"))
+                np.save(fh, np.ascontiguousarray(arrays[name]), allow_pickle=False)
         with tempfile.NamedTemporaryFile(dir=d, suffix=".npz.tmp", delete=False) as fh:
-            tmp.append(fh.name)
-            np.savez(fh, **arrays)
+            tmp.append((fh.name, d / f"{key}.npz"))
+            np.savez(fh, **small)
         with tempfile.NamedTemporaryFile(
             "w", dir=d, suffix=".json.tmp", delete=False, encoding="utf-8"
         ) as fh:
-            tmp.append(fh.name)
-            json.dump(_canonical(info), fh)
-        os.replace(tmp[0], d / f"{key}.npz")
-        os.replace(tmp[1], d / f"{key}.json")
+            tmp.append((fh.name, d / f"{key}.json"))
+            json.dump(_canonical({**info, "_mapped": mapped}), fh)
+        for src, dst in tmp:
+            os.replace(src, dst)
         tmp.clear()
     except OSError:
         return None
     finally:
-        for name in tmp:
-            Path(name).unlink(missing_ok=True)
+        for src, _ in tmp:
+            Path(src).unlink(missing_ok=True)
     return d / f"{key}.npz"

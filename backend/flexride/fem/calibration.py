@@ -20,8 +20,9 @@ from scipy.optimize import least_squares
 from flexride.errors import FEModelError
 from flexride.fem.carbody import CarBodyParams, build_carbody
 from flexride.fem.classify import classify_mode
-from flexride.fem.eigen import solve_modes
+from flexride.fem.eigen import free_free_modes
 from flexride.fem.massmatch import InertiaTarget
+from flexride.fem.rigid import rigid_body_vectors
 
 #: Calibration variables and their bounds (SI units).
 BOUNDS: dict[str, tuple[float, float]] = {
@@ -124,7 +125,9 @@ class CalibrationResult:
             + f" ±{100 * self.tolerance:g} %",
             f"{'mode':>4} {'target Hz':>10} {'model Hz':>9} {'error %':>8}  classification",
         ]
-        for k, (t, f, e) in enumerate(zip(self.targets_hz, self.frequencies_hz, self.errors)):
+        for k, (t, f, e) in enumerate(
+            zip(self.targets_hz, self.frequencies_hz, self.errors, strict=False)
+        ):
             c = self.classification[k] if k < len(self.classification) else ""
             lines.append(f"{k + 1:4d} {t:10.3f} {f:9.3f} {100 * e:8.2f}  {c}")
         lines.append("variables (initial -> calibrated, bounds):")
@@ -141,7 +144,7 @@ def carbody_frequencies(
     """First ``n`` elastic frequencies (Hz) of the mass-matched car body, and (model, modes)."""
     model = build_carbody(params, target, element_size)
     K, M = model.assemble()
-    modes = solve_modes(K, M, n_modes=n + 6, tol=1e-8)
+    modes = free_free_modes(K, M, rigid_body_vectors(model.nodes), n_elastic=n, tol=1e-8)
     return modes.frequencies[6 : 6 + n], model, modes
 
 
@@ -210,10 +213,12 @@ def calibrate_carbody(
         if key in memo:
             return memo[key]
         x = np.exp(z)
-        p = base.with_values(**dict(zip(names, map(float, x))))
+        p = base.with_values(**dict(zip(names, map(float, x), strict=False)))
         f, _, _ = carbody_frequencies(p, target, element_size, t.size)
         memo[key] = f
-        history.append({"values": dict(zip(names, map(float, x))), "frequencies": f.tolist()})
+        history.append(
+            {"values": dict(zip(names, map(float, x), strict=False)), "frequencies": f.tolist()}
+        )
         if progress is not None:
             progress(len(history), f)
         return f
@@ -232,28 +237,29 @@ def calibrate_carbody(
         xtol=1e-4,
         ftol=1e-5,
     )
-    # best evaluated point (least_squares returns its own best; recompute to be safe)
     z_best = res.x
     f_best = evaluate(z_best)
     x_best = np.exp(z_best)
     err = f_best / t - 1.0
-    p_best = base.with_values(**dict(zip(names, map(float, x_best))))
+    p_best = base.with_values(**dict(zip(names, map(float, x_best), strict=False)))
     _, model, modes = carbody_frequencies(p_best, target, element_size, t.size)
-    K, M = model.assemble()
+    _, M = model.assemble()
     cls = [
         classify_mode(modes.shapes[:, 6 + k], M, model.nodes, model.node_region, model.region_names)
         for k in range(t.size)
     ]
     at_bound = [
-        n for n, x, a, b in zip(names, x_best, lo, hi) if x <= a * 1.001 or x >= b * 0.999
+        n
+        for n, x, a, b in zip(names, x_best, lo, hi, strict=False)
+        if x <= a * 1.001 or x >= b * 0.999
     ]
     return CalibrationResult(
         targets_hz=t.tolist(),
         frequencies_hz=[float(v) for v in f_best],
         errors=[float(v) for v in err],
         classification=cls,
-        values={n: float(v) for n, v in zip(names, x_best)},
-        initial={n: float(v) for n, v in zip(names, x0)},
+        values={n: float(v) for n, v in zip(names, x_best, strict=False)},
+        initial={n: float(v) for n, v in zip(names, x0, strict=False)},
         bounds={n: BOUNDS[n] for n in names},
         at_bound=at_bound,
         n_evaluations=len(history),

@@ -13,6 +13,7 @@ floor by stiff webs, carrying the air-spring seats and the bogie centre pivot. N
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import asdict, dataclass, replace
 
 import numpy as np
@@ -151,12 +152,17 @@ def build_carbody(
     floor = np.array([[reg.node(x, y, zf, _FLOOR) for y in yl] for x in xs])
     wall_l = np.array([[reg.node(x, W2, z, _WALL_L) for z in zl] for x in xs])
     wall_r = np.array([[reg.node(x, -W2, z, _WALL_R) for z in zl] for x in xs])
-    roof = np.array([[reg.node(x, y, zr, _ROOF) for y, zr in zip(yl, zroof)] for x in xs])
+    roof = np.array(
+        [[reg.node(x, y, zr, _ROOF) for y, zr in zip(yl, zroof, strict=False)] for x in xs]
+    )
     s = (zl - zf) / (ze - zf)
     ends = {}
     for xe, r in ((L2, _END_F), (-L2, _END_R)):
         ends[xe] = np.array(
-            [[reg.node(xe, y, zf + (zr - zf) * sk, r) for sk in s] for y, zr in zip(yl, zroof)]
+            [
+                [reg.node(xe, y, zf + (zr - zf) * sk, r) for sk in s]
+                for y, zr in zip(yl, zroof, strict=False)
+            ]
         )
 
     quads: list[tuple[int, int, int, int]] = []
@@ -181,7 +187,7 @@ def build_carbody(
     doors = [(c, p.door_width) for d in p.door_centres for c in ((d, -d) if d else (d,))]
     windows = [
         (c, w)
-        for d, w in zip(p.window_centres, p.window_widths)
+        for d, w in zip(p.window_centres, p.window_widths, strict=False)
         for c in ((d, -d) if d else (d,))
     ]
     z_door = zf + p.door_height
@@ -203,12 +209,18 @@ def build_carbody(
     for xe in (L2, -L2):
         grid = ends[xe]
         zc_end = np.array(
-            [[0.5 * (grid_z(reg, grid[j, k]) + grid_z(reg, grid[j, k + 1])) for k in range(nz - 1)]
-             for j in range(ny - 1)]
+            [
+                [
+                    0.5 * (grid_z(reg, grid[j, k]) + grid_z(reg, grid[j, k + 1]))
+                    for k in range(nz - 1)
+                ]
+                for j in range(ny - 1)
+            ]
         )
         add_grid(
-            grid, G_END, lambda j, k, zc_end=zc_end: abs(yc[j]) < p.gangway_width / 2.0
-            and zc_end[j, k] < z_gw
+            grid,
+            G_END,
+            lambda j, k, zc_end=zc_end: abs(yc[j]) < p.gangway_width / 2.0 and zc_end[j, k] < z_gw,
         )
 
     # ---- beams
@@ -237,7 +249,7 @@ def build_carbody(
     bvxy: list[tuple[float, float, float]] = []
 
     def add_line(nodes, group, vxy):
-        for a, b in zip(nodes[:-1], nodes[1:]):
+        for a, b in itertools.pairwise(nodes):
             beams.append((int(a), int(b)))
             bgroup.append(group)
             bvxy.append(vxy)
@@ -407,7 +419,7 @@ def _add_nonstructural_mass(model: FEModel, p: CarBodyParams, target: InertiaTar
     groups: list[MassGroup] = []
     areas: list[float] = []
     for kind, (w, mask, dz) in kinds.items():
-        for b0, b1 in zip(_BANDS[:-1], _BANDS[1:]):
+        for b0, b1 in itertools.pairwise(_BANDS):
             sel = mask & (ax >= b0 - 1e-9) & (ax < b1 - 1e-9) & (w > 0)
             if not sel.any():
                 continue
@@ -420,7 +432,9 @@ def _add_nonstructural_mass(model: FEModel, p: CarBodyParams, target: InertiaTar
             areas.append(float(wts.sum()))
     nodes = np.flatnonzero(a_end > 0)
     groups.append(
-        MassGroup("ends", "ends", nodes, a_end[nodes] / a_end[nodes].sum(), np.zeros((nodes.size, 3)))
+        MassGroup(
+            "ends", "ends", nodes, a_end[nodes] / a_end[nodes].sum(), np.zeros((nodes.size, 3))
+        )
     )
     areas.append(float(a_end.sum()))
     for kind, frac in fractions.items():
@@ -432,4 +446,6 @@ def _add_nonstructural_mass(model: FEModel, p: CarBodyParams, target: InertiaTar
     n_, m_, o_ = groups_to_point_masses(groups, masses)
     mesh.mass_nodes, mesh.mass_values, mesh.mass_offsets = n_, m_, o_
     model.info["structural_mass_kg"] = float(structure.mass)
-    model.info["mass_groups_kg"] = {g.name: round(float(mg), 3) for g, mg in zip(groups, masses)}
+    model.info["mass_groups_kg"] = {
+        g.name: round(float(mg), 3) for g, mg in zip(groups, masses, strict=False)
+    }

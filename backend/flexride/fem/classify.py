@@ -96,7 +96,8 @@ def classify_mode(
         beam_name = f"{_ORD.get(k, f'{k}th')} {('vertical', 'lateral')[kind]} bending"
     if beam >= beam_threshold:
         return beam_name
-    if node_region is None or not region_names:
+    needed = {"floor", "roof", "wall_left", "wall_right"}
+    if node_region is None or not region_names or not needed <= set(region_names):
         return "cross-section deformation"
     rms = {}
     for r, name in enumerate(region_names):

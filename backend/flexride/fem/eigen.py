@@ -53,7 +53,7 @@ class ShiftInvert:
         self.sigma = float(sigma)
         self.n = A.shape[0]
         try:
-            self.lu = spla.splu(A, permc_spec="COLAMD")
+            self.lu = spla.splu(A, permc_spec="MMD_ATA")
         except RuntimeError as exc:  # singular
             raise FEModelError(
                 f"stiffness matrix is singular at shift {sigma:g} rad²/s² ({exc}); the model "
@@ -83,6 +83,8 @@ def solve_modes(
     factor: ShiftInvert | None = None,
     tol: float = 1e-10,
     dense_below: int = 1500,
+    deflate: np.ndarray | None = None,
+    window: int = 60,
 ) -> Modes:
     """Lowest natural modes of ``K φ = ω² M φ``.
 
@@ -103,6 +105,13 @@ def solve_modes(
         ARPACK tolerance.
     dense_below : int
         Use a dense solver for models with fewer DOFs.
+    deflate : numpy.ndarray, optional
+        (n, r) basis of known zero-frequency modes (rigid-body vectors) projected out of the
+        Lanczos iteration (the returned modes are M-orthogonal to it and do not include it).
+        Without it, ARPACK can miss one of six degenerate rigid-body modes.
+    window : int
+        Modes per shift-invert slice when ``f_max`` is given (spectrum slicing keeps the
+        Lanczos basis small however many modes lie below ``f_max``).
 
     Returns
     -------
@@ -129,23 +138,172 @@ def solve_modes(
     if factor is None:
         sigma = -((2 * np.pi * sigma_hz) ** 2) if sigma_hz < 0 else (2 * np.pi * sigma_hz) ** 2
         factor = ShiftInvert(K, M, sigma)
-    op = factor.operator()
-    k = n_modes if n_modes is not None else 20
-    k = int(min(max(k, 1), n - 2))
+    project = _projector(M, deflate)
+    if f_max is None:
+        w2, phi = _eigsh(K, M, factor, int(min(max(n_modes, 1), n - 2)), tol, project)
+        return Modes(_freq(w2), _mass_normalise(phi, M))
+    w2, phi = _sliced(K, M, factor, (2 * np.pi * f_max) ** 2, n_modes or 0, tol, project, window)
+    return Modes(_freq(w2), _mass_normalise(phi, M))
+
+
+def _freq(w2: np.ndarray) -> np.ndarray:
+    f = np.sqrt(np.abs(w2)) / (2 * np.pi)
+    f[w2 < 0] = 0.0
+    return f
+
+
+def _projector(M, deflate):
+    if deflate is None:
+        return None
+    Rd = np.asarray(deflate, dtype=float)
+    MR = M @ Rd
+    G = np.linalg.inv(Rd.T @ MR)
+
+    def project(x: np.ndarray) -> np.ndarray:
+        return x - Rd @ (G @ (MR.T @ x))
+
+    return project
+
+
+def _eigsh(K, M, factor: ShiftInvert, k: int, tol: float, project):
+    """The ``k`` eigenpairs nearest to the factor's shift (ascending)."""
+    n = K.shape[0]
+    if project is None:
+        op = factor.operator()
+        v0 = None
+    else:
+
+        def matvec(b: np.ndarray) -> np.ndarray:
+            return project(factor.solve(b))
+
+        op = spla.LinearOperator((n, n), matvec=matvec, dtype=float)
+        v0 = project(np.random.default_rng(0).standard_normal(n))
+    w2, phi = spla.eigsh(K, M=M, k=k, sigma=factor.sigma, which="LM", OPinv=op, tol=tol, v0=v0)
+    order = np.argsort(w2)
+    return w2[order], phi[:, order]
+
+
+def _sliced(K, M, factor, w2_max, n_min, tol, project, window):
+    """All eigenpairs with ω² <= ``w2_max`` (and at least ``n_min``) by spectrum slicing.
+
+    Each slice asks for the ``window`` eigenvalues nearest to a shift; if they reach a distance
+    ``d`` from the shift, every eigenvalue in ``[σ − d, σ + d)`` is among them. Slices are
+    chained from the bottom of the spectrum (the first uses the given factorisation), keeping
+    each eigenvalue once, until ``w2_max`` is passed.
+    """
+    n = K.shape[0]
+    k = int(min(window, n - 2))
+    found_w: list[np.ndarray] = []
+    found_v: list[np.ndarray] = []
+    lower = -np.inf  # everything below is already found (or does not exist)
+    sigma_f = factor
     while True:
-        w2, phi = spla.eigsh(K, M=M, k=k, sigma=factor.sigma, which="LM", OPinv=op, tol=tol)
-        order = np.argsort(w2)
-        w2, phi = w2[order], phi[:, order]
-        f = np.sqrt(np.abs(w2)) / (2 * np.pi)
-        f[w2 < 0] = 0.0
-        if f_max is None or f[-1] > f_max or k >= n - 2:
+        w2, phi = _eigsh(K, M, sigma_f, k, tol, project)
+        sigma = sigma_f.sigma
+        d = np.max(np.abs(w2 - sigma))
+        top = sigma + d if w2.size == k and k < n - 2 else np.inf
+        bottom = sigma - d if w2.size == k and k < n - 2 else -np.inf
+        if bottom > lower and np.isfinite(lower):
+            # a gap between the previous slice and this one: step back
+            sigma_new = lower + 0.25 * (sigma - lower)
+            sigma_f = ShiftInvert(K, M, sigma_new)
+            continue
+        keep = (w2 >= lower) & (w2 < top)
+        found_w.append(w2[keep])
+        found_v.append(phi[:, keep])
+        count = sum(a.size for a in found_w)
+        if (top >= w2_max and count >= n_min) or not np.isfinite(top) or k >= n - 2:
             break
-        # estimate how many more are needed from the modal density so far
-        k = int(min(n - 2, max(k + 10, np.ceil(k * 1.3 * (f_max / max(f[-1], 1e-3)) ** 1.0))))
-    keep = np.ones(f.size, dtype=bool)
-    if f_max is not None:
-        keep = f <= f_max
-        if n_modes is not None:
-            keep[: min(n_modes, f.size)] = True
-    phi = _mass_normalise(phi[:, keep], M)
-    return Modes(f[keep], phi)
+        # next shift: centre a slice of about the same width above the covered range
+        width = max(top - max(lower, w2.min()), 1e-6 * abs(top) + 1e-12)
+        lower = top
+        sigma_f = ShiftInvert(K, M, top + 0.45 * width)
+    w2 = np.concatenate(found_w)
+    phi = np.hstack(found_v)
+    order = np.argsort(w2)
+    w2, phi = w2[order], phi[:, order]
+    keep = w2 <= w2_max
+    keep[: min(n_min, keep.size)] = True
+    return w2[keep], phi[:, keep]
+
+
+def free_free_modes(
+    K,
+    M,
+    rigid: np.ndarray,
+    n_elastic: int | None = None,
+    f_max: float | None = None,
+    tol: float = 1e-10,
+    check: float = 1e-6,
+    window: int = 60,
+) -> Modes:
+    """Rigid-body modes plus the lowest elastic modes of a free–free model.
+
+    The six rigid-body modes are the given vectors, M-orthonormalised; the elastic modes are
+    found with the rigid subspace projected out (robust against ARPACK missing one of the
+    degenerate zero eigenvalues).
+
+    Parameters
+    ----------
+    K, M : matrix
+        Stiffness and mass.
+    rigid : numpy.ndarray
+        (n, 6) rigid-body vectors.
+    n_elastic : int, optional
+        Number of elastic modes (at least).
+    f_max : float, optional
+        All elastic modes up to this frequency (Hz).
+    window : int
+        Modes per spectrum slice (see :func:`solve_modes`).
+    check : float
+        Largest accepted ``‖K r‖ / (‖K‖ ‖r‖)`` of a rigid-body vector.
+
+    Returns
+    -------
+    Modes
+        Six rigid modes (frequency 0) followed by the elastic modes.
+
+    Raises
+    ------
+    FEModelError
+        If the rigid-body vectors are not free (the model is constrained) or the model has
+        mechanisms (elastic modes at zero frequency).
+    """
+    R = np.asarray(rigid, dtype=float)
+    KR = K @ R
+    kn = abs(K).max() if sp.issparse(K) else np.abs(K).max()
+    rel = np.linalg.norm(KR, axis=0) / (kn * np.linalg.norm(R, axis=0) + 1e-300)
+    if np.any(rel > check):
+        raise FEModelError(
+            "the model does not move freely as a rigid body (relative rigid-body strain "
+            f"energy {rel.max():.2e}): it is constrained or its rigid-body vectors are wrong"
+        )
+    MR = M @ R
+    L = np.linalg.cholesky(R.T @ MR)
+    Rn = np.linalg.solve(L, R.T).T  # M-orthonormal rigid modes
+    n = K.shape[0]
+    if n <= 1500:
+        modes = solve_modes(K, M, n_modes=n, tol=tol)
+        phi = modes.shapes
+        phi = phi - Rn @ (Rn.T @ (M @ phi))
+        mm = np.einsum("ij,ij->j", phi, M @ phi)
+        keep = np.argsort(-mm)[: n - 6]
+        keep = np.sort(keep)
+        f = modes.frequencies[keep]
+        phi = _mass_normalise(phi[:, keep], M)
+        sel = np.ones(f.size, dtype=bool)
+        if f_max is not None:
+            sel = f <= f_max
+            if n_elastic is not None:
+                sel[: min(n_elastic, f.size)] = True
+        elif n_elastic is not None:
+            sel = np.arange(f.size) < n_elastic
+        f, phi = f[sel], phi[:, sel]
+    else:
+        modes = solve_modes(K, M, n_modes=n_elastic, f_max=f_max, tol=tol, deflate=R, window=window)
+        f, phi = modes.frequencies, modes.shapes
+    if f.size and f[0] < 1e-3:
+        raise FEModelError(
+            f"the model has a mechanism (elastic mode at {f[0]:.2e} Hz): parts are not connected"
+        )
+    return Modes(np.concatenate([np.zeros(6), f]), np.hstack([Rn, phi]))

@@ -55,7 +55,10 @@ def export_mesh(
         "modes": [],
     }
     if node_region is not None and region_names:
-        out["regions"] = {"names": list(region_names), "node_region": np.asarray(node_region).tolist()}
+        out["regions"] = {
+            "names": list(region_names),
+            "node_region": np.asarray(node_region).tolist(),
+        }
     if frequencies is not None and shapes is not None:
         for k in range(min(max_modes, len(frequencies))):
             u = shapes[:, :3, k]

@@ -192,10 +192,12 @@ def _classify(model: FEModel, shapes: np.ndarray, M, kind: str) -> list[str]:
     out = []
     for k in range(min(shapes.shape[2], N_CLASSIFIED)):
         phi = shapes[:, :, k].ravel()
-        if kind == "frame":
+        if kind == "frame" or "side_beam" in model.region_names:
             out.append(classify_plane_frame_mode(phi, M, model.nodes))
-        else:
+        elif "wall_left" in model.region_names:
             out.append(classify_mode(phi, M, model.nodes, model.node_region, model.region_names))
+        else:
+            out.append(classify_mode(phi, M, model.nodes))
     return out + [""] * (shapes.shape[2] - len(out))
 
 
@@ -409,6 +411,7 @@ def build_flexible_body(
             "quads": model.mesh.quads,
             "beams": model.mesh.beams,
             "node_region": model.node_region if model.node_region is not None else np.zeros(0),
+            "mac": np.asarray(report.mac, dtype=float),
         }
         meta = {
             "inputs": inputs,
@@ -416,7 +419,7 @@ def build_flexible_body(
             "node_names": model.named_nodes,
             "region_names": model.region_names,
             "floor_grid": model.info.get("floor_grid", []),
-            "report": report.to_dict(),
+            "report": {**report.to_dict(), "mac": None},
             "model_info": {k: v for k, v in model.info.items() if k != "floor_grid"},
         }
         if use_cache:
@@ -425,7 +428,9 @@ def build_flexible_body(
     else:
         arrays, meta = hit
         from_cache = True
-    return _assemble_body(arrays, meta, name, x_ref, damping_ratio, kind, extra_points, t0, from_cache)
+    return _assemble_body(
+        arrays, meta, name, x_ref, damping_ratio, kind, extra_points, t0, from_cache
+    )
 
 
 def _assemble_body(arrays, meta, name, x_ref, damping, kind, extra_points, t0, from_cache):
@@ -456,7 +461,7 @@ def _assemble_body(arrays, meta, name, x_ref, damping, kind, extra_points, t0, f
     region = arrays.get("node_region")
     return FlexibleBody(
         body=body,
-        report=ReductionReport.from_dict(meta["report"]),
+        report=ReductionReport.from_dict({**meta["report"], "mac": arrays["mac"]}),
         modes=modes,
         quads=arrays["quads"],
         beams=arrays["beams"],
@@ -546,6 +551,7 @@ def flexible_body_from_model(
             "quads": model.mesh.quads,
             "beams": model.mesh.beams,
             "node_region": np.zeros(0),
+            "mac": np.asarray(report.mac, dtype=float),
         }
         meta = {
             "inputs": inputs,
@@ -553,7 +559,7 @@ def flexible_body_from_model(
             "node_names": model.named_nodes,
             "region_names": [],
             "floor_grid": [],
-            "report": report.to_dict(),
+            "report": {**report.to_dict(), "mac": None},
             "markers": masters,
         }
         if use_cache:

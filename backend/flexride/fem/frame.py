@@ -14,6 +14,7 @@ then misses each inertia by about 0.7 %.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import asdict, dataclass, replace
 
 import numpy as np
@@ -94,7 +95,7 @@ def build_frame(
     B_SIDE, B_CROSS, B_CENTRE, B_LINK = range(4)
 
     def add_line(nodes, group, vxy):
-        for n1, n2 in zip(nodes[:-1], nodes[1:]):
+        for n1, n2 in itertools.pairwise(nodes):
             beams.append((int(n1), int(n2)))
             bgroup.append(group)
             bvxy.append(vxy)
@@ -162,11 +163,11 @@ def _add_nonstructural_mass(model: FEModel, target: InertiaTarget) -> None:
     reg = model.node_region
     ax, ay = np.abs(x[:, 0]), np.abs(x[:, 1])
     xmax = ax[reg == _SIDE].max()
-    for b0, b1 in zip(np.linspace(0, 1, 5)[:-1], np.linspace(0, 1, 5)[1:]):
+    for b0, b1 in zip(np.linspace(0, 1, 5)[:-1], np.linspace(0, 1, 5)[1:], strict=False):
         sel = np.flatnonzero((reg == _SIDE) & (ax >= b0 * xmax - 1e-9) & (ax < b1 * xmax + 1e-9))
         groups.append(_group(f"side.{b0:.2f}-{b1:.2f}", "side", sel, 0.4 * nsm / 4))
     ymax = ay[reg == _CROSS].max()
-    for b0, b1 in zip(np.linspace(0, 1, 4)[:-1], np.linspace(0, 1, 4)[1:]):
+    for b0, b1 in zip(np.linspace(0, 1, 4)[:-1], np.linspace(0, 1, 4)[1:], strict=False):
         sel = np.flatnonzero((reg == _CROSS) & (ay >= b0 * ymax - 1e-9) & (ay < b1 * ymax + 1e-9))
         groups.append(_group(f"cross.{b0:.2f}-{b1:.2f}", "cross", sel, 0.5 * nsm / 3))
     sel = np.flatnonzero(reg == _CENTRE)
@@ -176,9 +177,13 @@ def _add_nonstructural_mass(model: FEModel, target: InertiaTarget) -> None:
     n_, m_, o_ = groups_to_point_masses(groups, masses)
     mesh.mass_nodes, mesh.mass_values, mesh.mass_offsets = n_, m_, o_
     model.info["structural_mass_kg"] = float(structure.mass)
-    model.info["mass_groups_kg"] = {g.name: round(float(mg), 3) for g, mg in zip(groups, masses)}
+    model.info["mass_groups_kg"] = {
+        g.name: round(float(mg), 3) for g, mg in zip(groups, masses, strict=False)
+    }
 
 
 def _group(name: str, kind: str, nodes: np.ndarray, prior: float) -> MassGroup:
     n = max(nodes.size, 1)
-    return MassGroup(name, kind, nodes, np.full(nodes.size, 1.0 / n), np.zeros((nodes.size, 3)), prior)
+    return MassGroup(
+        name, kind, nodes, np.full(nodes.size, 1.0 / n), np.zeros((nodes.size, 3)), prior
+    )

@@ -32,8 +32,17 @@ from flexride.errors import FEModelError
 from flexride.fem.model import FEModel
 from flexride.fem.pyfe3d_adapter import Mesh
 
-_COMPONENTS = {"UX": 0, "UY": 1, "UZ": 2, "ROTX": 3, "ROTY": 4, "ROTZ": 5,
-               "RX": 3, "RY": 4, "RZ": 5}
+_COMPONENTS = {
+    "UX": 0,
+    "UY": 1,
+    "UZ": 2,
+    "ROTX": 3,
+    "ROTY": 4,
+    "ROTZ": 5,
+    "RX": 3,
+    "RY": 4,
+    "RZ": 5,
+}
 UNIT_SYSTEMS = ("SI", "mm-t-s")
 
 
@@ -63,7 +72,7 @@ def read_matrix(path: str | Path, fmt: str | None = None) -> sp.csc_matrix:
             return _read_hb(p)
     except FEModelError:
         raise
-    except Exception as exc:  # noqa: BLE001 - any parser error is a bad file for the user
+    except Exception as exc:
         raise FEModelError(f"cannot read {fmt} matrix {p}: {exc}") from exc
     raise FEModelError(f"unknown matrix format {fmt!r} for {p} (use mtx or hb)")
 
@@ -126,7 +135,9 @@ def read_dmig(path: str | Path, name: str) -> tuple[sp.csc_matrix, list[tuple[in
             for k in range(0, len(rest) - 2, 3):
                 if rest[k] == "":
                     continue
-                entries.append(((int(rest[k]), int(rest[k + 1])), (gj, cj), float(_nas_float(rest[k + 2]))))
+                entries.append(
+                    ((int(rest[k]), int(rest[k + 1])), (gj, cj), float(_nas_float(rest[k + 2])))
+                )
         except (IndexError, ValueError) as exc:
             raise FEModelError(f"{p}: unreadable DMIG column entry {c[:5]}") from exc
     dofs = sorted({e[0] for e in entries} | {e[1] for e in entries})
@@ -203,12 +214,15 @@ def read_nodes(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         if not parts or parts[0].startswith("#"):
             continue
         try:
-            ids.append(int(parts[0]))
-            xyz.append([float(v) for v in parts[1:4]])
+            nid, pos = int(parts[0]), [float(v) for v in parts[1:4]]
+            if len(pos) != 3:
+                raise IndexError(line)
         except (ValueError, IndexError) as exc:
             if k == 0:
                 continue  # header line
             raise FEModelError(f"{p}:{k + 1}: expected 'id, x, y, z', got {line!r}") from exc
+        ids.append(nid)
+        xyz.append(pos)
     if not ids:
         raise FEModelError(f"{p}: no nodes")
     ids_a = np.asarray(ids, dtype=np.int64)
@@ -315,7 +329,9 @@ def import_fe_model(
     else:
         ids, xyz = read_nodes(nodes)
     dmap: list[tuple[int, int]] | None = None
-    if fmt == "ansys-full" or (isinstance(stiffness, (str, Path)) and str(stiffness).endswith(".full")):
+    if fmt == "ansys-full" or (
+        isinstance(stiffness, (str, Path)) and str(stiffness).endswith(".full")
+    ):
         K, M, dmap = _read_ansys_full(Path(stiffness))
     else:
         K, M, dmap = _read_pair(stiffness, mass, fmt, dmig_names)

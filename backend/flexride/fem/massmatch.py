@@ -155,7 +155,7 @@ def groups_to_point_masses(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Flatten groups with their masses to (nodes, masses, offsets) arrays."""
     nodes = np.concatenate([g.nodes for g in groups])
-    vals = np.concatenate([g.weights * mg for g, mg in zip(groups, masses)])
+    vals = np.concatenate([g.weights * mg for g, mg in zip(groups, masses, strict=False)])
     offs = np.vstack([g.offsets for g in groups])
     keep = vals > 0.0
     return nodes[keep], vals[keep], offs[keep]

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 
@@ -12,7 +14,7 @@ def mesh_lines(lo: float, hi: float, size: float, keys: tuple[float, ...] = ()) 
     """
     pts = sorted({round(float(k), 9) for k in (lo, hi, *keys) if lo - 1e-9 <= k <= hi + 1e-9})
     out = [pts[0]]
-    for a, b in zip(pts[:-1], pts[1:]):
+    for a, b in itertools.pairwise(pts):
         if b - a < 1e-9:
             continue
         n = max(1, int(np.ceil((b - a) / size - 1e-6)))

@@ -16,7 +16,7 @@ import scipy.sparse as sp
 from flexride.bodies import ModalBody
 from flexride.errors import FEModelError
 from flexride.fem.damping import DampingSpec, modal_damping_ratios
-from flexride.fem.eigen import solve_modes
+from flexride.fem.eigen import free_free_modes
 from flexride.fem.rigid import (
     MassProperties,
     mass_properties_from_rigid_mass,
@@ -40,7 +40,7 @@ class BodyModes:
         (n, 6, n_elastic) elastic mode shapes at every node (m and rad per unit modal
         coordinate), M-orthogonal to the rigid-body modes, mass-normalised.
     rigid_frequencies : numpy.ndarray
-        Frequencies of the six discarded rigid-body modes (Hz, ≈ 0: a check of the model).
+        Frequencies of the six rigid-body modes (Hz; zero, they are imposed exactly).
     reduced_modes : numpy.ndarray
         (n_reduced, n_elastic) elastic modes in the reduced coordinates.
     node_names : dict of str to int
@@ -92,7 +92,6 @@ def reduced_to_modal_body(
     damping: DampingSpec = 0.02,
     x_ref: float = 0.0,
     markers: dict[str, int] | None = None,
-    rigid_tolerance_hz: float = 0.5,
 ) -> BodyModes:
     """Diagonalise a (reduced) FE model into a :class:`~flexride.bodies.ModalBody`.
 
@@ -121,8 +120,6 @@ def reduced_to_modal_body(
         Position of the body's reference frame along the vehicle (m).
     markers : dict of str to int, optional
         Named nodes whose elastic shapes go into ``ModalBody.elastic_shapes``.
-    rigid_tolerance_hz : float
-        Largest frequency accepted for a rigid-body mode (Hz).
 
     Returns
     -------
@@ -155,26 +152,14 @@ def reduced_to_modal_body(
         raise FEModelError(f"model {name!r} has no positive mass or inertia: check M")
 
     f_max = None if cutoff_hz is None else float(cutoff_hz)
-    want = None if n_modes is None else n_modes + 6
-    if f_max is None and want is None:
+    if f_max is None and n_modes is None:
         raise ValueError("give cutoff_hz or n_modes")
-    modes = solve_modes(K, M, n_modes=want if want is not None else 12, f_max=f_max)
-    phi = modes.shapes
-    # identify the rigid-body modes by their projection on the rigid subspace
+    modes = free_free_modes(K, M, R, n_elastic=n_modes if n_modes is not None else 6, f_max=f_max)
+    f_el = modes.frequencies[6:]
+    q = modes.shapes[:, 6:]
+    f_rigid = np.zeros(6)
     Mrr_inv = np.linalg.inv(Mrr)
     MR = M @ R
-    proj = np.einsum("ij,jk,ik->i", phi.T @ MR, Mrr_inv, phi.T @ MR)
-    rigid_idx = np.sort(np.argsort(-proj)[:6])
-    f_rigid = modes.frequencies[rigid_idx]
-    if phi.shape[1] < 6 or np.any(f_rigid > rigid_tolerance_hz) or np.any(proj[rigid_idx] < 0.9):
-        raise FEModelError(
-            f"model {name!r} does not have six free rigid-body modes (lowest frequencies "
-            f"{np.round(modes.frequencies[:8], 3).tolist()} Hz): it is constrained, has "
-            "mechanisms, or M/K are inconsistent"
-        )
-    el = np.setdiff1d(np.arange(phi.shape[1]), rigid_idx)
-    f_el = modes.frequencies[el]
-    q = phi[:, el]
     # exact M-orthogonality to the rigid-body modes, then unit modal mass
     q = q - R @ (Mrr_inv @ (MR.T @ q))
     q = q / np.sqrt(np.einsum("ij,ij->j", q, M @ q))

@@ -17,8 +17,19 @@ from dataclasses import dataclass, field
 import numpy as np
 import pyfe3d
 import scipy.sparse as sp
-from pyfe3d import DOF, INT, BeamC, BeamCData, BeamCProbe, Quad4, Quad4Data, Quad4Probe
-from pyfe3d import Spring, SpringData, SpringProbe
+from pyfe3d import (
+    DOF,
+    INT,
+    BeamC,
+    BeamCData,
+    BeamCProbe,
+    Quad4,
+    Quad4Data,
+    Quad4Probe,
+    Spring,
+    SpringData,
+    SpringProbe,
+)
 from pyfe3d.beamprop import BeamProp
 from pyfe3d.shellprop_utils import isotropic_plate, laminated_plate
 
@@ -286,7 +297,9 @@ def assemble(
         mc = np.zeros_like(mr)
         mv = np.zeros(data.M_SPARSE_SIZE * nq)
         props = [s.to_pyfe3d() for s in shell_sections]
-        for e, (conn, g) in enumerate(zip(mesh.quads.tolist(), mesh.quad_group.tolist())):
+        for e, (conn, g) in enumerate(
+            zip(mesh.quads.tolist(), mesh.quad_group.tolist(), strict=False)
+        ):
             q = Quad4(probe)
             q.c1, q.c2, q.c3, q.c4 = (DOF * c for c in conn)
             q.init_k_KC0 = e * data.KC0_SPARSE_SIZE
@@ -314,7 +327,7 @@ def assemble(
         mv = np.zeros(data.M_SPARSE_SIZE * nb)
         props = [s.to_pyfe3d() for s in beam_sections]
         for e, (conn, g, v) in enumerate(
-            zip(mesh.beams.tolist(), mesh.beam_group.tolist(), mesh.beam_vxy.tolist())
+            zip(mesh.beams.tolist(), mesh.beam_group.tolist(), mesh.beam_vxy.tolist(), strict=False)
         ):
             b = BeamC(probe)
             b.c1, b.c2 = DOF * conn[0], DOF * conn[1]
@@ -337,7 +350,9 @@ def assemble(
         kr = np.zeros(data.KC0_SPARSE_SIZE * ns, dtype=INT)
         kc = np.zeros_like(kr)
         kv = np.zeros(data.KC0_SPARSE_SIZE * ns)
-        for e, (conn, k) in enumerate(zip(mesh.springs.tolist(), mesh.spring_k.tolist())):
+        for e, (conn, k) in enumerate(
+            zip(mesh.springs.tolist(), mesh.spring_k.tolist(), strict=False)
+        ):
             s = Spring(probe)
             s.c1, s.c2 = DOF * conn[0], DOF * conn[1]
             s.init_k_KC0 = e * data.KC0_SPARSE_SIZE

@@ -92,12 +92,7 @@ def guyan(K: sp.spmatrix, M: sp.spmatrix, master_dofs: np.ndarray) -> ReducedMod
     lu = _factor(Kss, "K_ss (slave stiffness)")
     T = -lu.solve(Ksm.toarray())
     Kr = K[m][:, m].toarray() + Ksm.T @ T
-    Mr = (
-        M[m][:, m].toarray()
-        + Msm.T @ T
-        + T.T @ Msm.toarray()
-        + T.T @ (Mss @ T)
-    )
+    Mr = M[m][:, m].toarray() + Msm.T @ T + T.T @ Msm.toarray() + T.T @ (Mss @ T)
     E = Msm.toarray() + Mss @ T  # M_sm − M_ss K_ss⁻¹ K_sm (Eq. 10 residual)
     G = lu.solve(E)
     H = G.T @ (Mss @ G)

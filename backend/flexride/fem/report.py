@@ -49,7 +49,7 @@ class ReductionReport:
         Dominant deformation of each retained mode.
     match : list of int
         Full mode that best matches each reduced mode (by MAC), −1 for none.
-    mac : list of list of float
+    mac : list of list of float or numpy.ndarray
         MAC matrix, reduced (rows) × full (columns), mass-weighted.
     mass : dict
         Mass properties of the model (and of the target, with relative errors).
@@ -69,7 +69,7 @@ class ReductionReport:
     full_frequencies: list[float] = field(default_factory=list)
     classification: list[str] = field(default_factory=list)
     match: list[int] = field(default_factory=list)
-    mac: list[list[float]] = field(default_factory=list)
+    mac: list[list[float]] | np.ndarray = field(default_factory=list)
     mass: dict = field(default_factory=dict)
     guyan_error: list[float] | None = None
     info: dict = field(default_factory=dict)
@@ -77,7 +77,7 @@ class ReductionReport:
     def frequency_errors(self) -> list[float | None]:
         """Relative error of each reduced frequency against its MAC-matched full mode."""
         out: list[float | None] = []
-        for fr, j in zip(self.reduced_frequencies, self.match):
+        for fr, j in zip(self.reduced_frequencies, self.match, strict=False):
             if j < 0 or j >= len(self.full_frequencies):
                 out.append(None)
             else:
@@ -98,7 +98,7 @@ class ReductionReport:
             "classification": self.classification,
             "match": self.match,
             "frequency_errors": self.frequency_errors(),
-            "mac": self.mac,
+            "mac": np.asarray(self.mac, dtype=float).tolist(),
             "mass": self.mass,
             "guyan_error": self.guyan_error,
             "info": self.info,
@@ -154,7 +154,11 @@ class ReductionReport:
         errs = self.frequency_errors()
         for k, fr in enumerate(self.reduced_frequencies[:max_rows]):
             j = self.match[k] if k < len(self.match) else -1
-            ff = f"{self.full_frequencies[j]:9.3f}" if 0 <= j < len(self.full_frequencies) else " " * 9
+            ff = (
+                f"{self.full_frequencies[j]:9.3f}"
+                if 0 <= j < len(self.full_frequencies)
+                else " " * 9
+            )
             er = f"{100 * errs[k]:8.2f}" if errs[k] is not None else " " * 8
             mac = f"{self.mac[k][j]:6.3f}" if 0 <= j < len(self.full_frequencies) else " " * 6
             row = f"{k + 1:4d} {fr:11.3f} {ff} {er} {mac}"

@@ -16,7 +16,7 @@ class BodyModel(Schema):
     reduction: Literal["modal", "guyan", "craig-bampton"] = Field(
         "modal", description="Reduction of the FE model (free-interface modal truncation, Guyan, "
         "Craig–Bampton)")
-    cutoff_hz: float = Field(100.0, gt=1.0, le=500.0,
+    cutoff_hz: float = Field(40.0, gt=1.0, le=500.0,
                              description="Highest elastic mode frequency kept (Hz)")
     damping_ratio: float = Field(0.02, ge=0.0, le=0.5,
                                  description="Modal damping ratio of the elastic modes (-)")

@@ -1,0 +1,100 @@
+"""Time and memory to build, solve and reduce the 0.2 m car-body model, and the cached load.
+
+A command that prints figures, not a test. Each stage runs in this process; memory is the peak
+resident set size (``resource.getrusage``) after the stage and the peak of Python allocations
+of the stage (``tracemalloc`` is off: it slows SciPy down), so read the RSS column.
+
+Usage::
+
+    .venv/bin/python benchmarks/bench_fem.py [--element-size 0.2] [--cutoff 100]
+        [--methods modal,craig-bampton,guyan] [--cache-dir DIR]
+
+The cache directory defaults to a fresh temporary one, so the first build of each method is
+timed without the cache and the second load with it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import tempfile
+import time
+
+
+def _rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--element-size", type=float, default=0.2)
+    ap.add_argument("--cutoff", type=float, default=100.0)
+    ap.add_argument("--methods", default="modal,craig-bampton,guyan")
+    ap.add_argument("--cache-dir", default=None)
+    args = ap.parse_args()
+    os.environ["FLEXRIDE_CACHE_DIR"] = args.cache_dir or tempfile.mkdtemp(prefix="flexride-fem-")
+
+    from flexride.fem.eigen import free_free_modes
+    from flexride.fem.flexible import build_fe_model, build_flexible_body
+    from flexride.fem.rigid import rigid_body_vectors
+    from flexride.model.presets import load_preset
+
+    vehicle = load_preset("paper-metro").vehicle
+    rows: list[tuple[str, float, float, str]] = []
+
+    t = time.perf_counter()
+    model, _ = build_fe_model("carbody", vehicle, args.element_size)
+    t_mesh = time.perf_counter() - t
+    rows.append(
+        (
+            "mesh + mass matching",
+            t_mesh,
+            _rss_mb(),
+            f"{model.mesh.n_nodes} nodes, {len(model.mesh.quads)} shells, "
+            f"{len(model.mesh.beams)} beams, {model.n_dof} DOFs",
+        )
+    )
+    t = time.perf_counter()
+    K, M = model.assemble(force=True)
+    rows.append(
+        ("assembly (pyfe3d)", time.perf_counter() - t, _rss_mb(), f"nnz K {K.nnz}, M {M.nnz}")
+    )
+    t = time.perf_counter()
+    modes = free_free_modes(K, M, rigid_body_vectors(model.nodes), n_elastic=6)
+    f = ", ".join(f"{v:.2f}" for v in modes.frequencies[6:12])
+    rows.append(("eigen: first 6 elastic modes", time.perf_counter() - t, _rss_mb(), f + " Hz"))
+    del model, K, M, modes
+
+    for method in [m.strip() for m in args.methods.split(",") if m.strip()]:
+        t = time.perf_counter()
+        fb = build_flexible_body(
+            "carbody", vehicle, method=method, cutoff_hz=args.cutoff, element_size=args.element_size
+        )
+        rows.append(
+            (
+                f"{method}: build + reduce + report",
+                time.perf_counter() - t,
+                _rss_mb(),
+                f"{fb.body.n_elastic} elastic modes <= {args.cutoff:g} Hz, "
+                f"{fb.report.n_reduced_dof} reduced DOFs",
+            )
+        )
+        t = time.perf_counter()
+        fb2 = build_flexible_body(
+            "carbody", vehicle, method=method, cutoff_hz=args.cutoff, element_size=args.element_size
+        )
+        assert fb2.from_cache
+        rows.append((f"{method}: cached load", time.perf_counter() - t, _rss_mb(), ""))
+
+    print(
+        f"car body, element size {args.element_size:g} m, cut-off {args.cutoff:g} Hz, "
+        f"cache {os.environ['FLEXRIDE_CACHE_DIR']}"
+    )
+    print(f"{'stage':38s} {'time (s)':>9} {'peak RSS (MB)':>14}  notes")
+    for name, sec, mem, note in rows:
+        print(f"{name:38s} {sec:9.3f} {mem:14.0f}  {note}")
+
+
+if __name__ == "__main__":
+    main()
