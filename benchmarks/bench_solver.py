@@ -66,7 +66,7 @@ def _part_timings(asm, X0, s0, n=20000):
 
     from flexride.solver.linearise import workspace
 
-    F, A, aux, sn, cst = workspace(asm.sys)
+    F, _A, aux, sn, cst = workspace(asm.sys)
     X = X0.copy()
     V = np.zeros_like(X)
     out = {}
@@ -86,7 +86,8 @@ def _part_timings(asm, X0, s0, n=20000):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="skip the cold-compile and long-route runs")
+    parser.add_argument("--quick", action="store_true",
+                        help="skip the cold-compile and long-route runs; coarse flexible mesh")
     args = parser.parse_args()
 
     from flexride.model.presets import load_preset

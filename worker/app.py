@@ -27,8 +27,9 @@ _state: dict[str, object] = {}
 @signals.worker_init.connect
 def _warm_before_fork(**_kwargs) -> None:
     """Compile or load the numba kernels in the parent, so every forked child has them."""
-    from flexride.jobs.warmup import warm_numba
+    from flexride.jobs.warmup import limit_blas_threads, warm_numba
 
+    limit_blas_threads(1)
     warm_numba()
 
 

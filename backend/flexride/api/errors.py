@@ -30,11 +30,11 @@ _ITEM = re.compile(r"^(?P<src>[^:]{1,120}): (?P<path>[A-Za-z0-9_.\[\]()-]+|\(roo
                    re.S)
 
 
-class NotFound(Exception):  # noqa: N818 - reads better at the raise site
+class NotFound(Exception):
     """A job, study, preset or file that does not exist (404)."""
 
 
-class Conflict(Exception):  # noqa: N818
+class Conflict(Exception):
     """The resource exists but is not in a state that allows the request (409)."""
 
 
@@ -146,6 +146,7 @@ def install_error_handlers(app: FastAPI) -> None:
 
 
 ERROR_RESPONSES: dict[int | str, dict[str, Any]] = {
+    400: {"description": "Malformed request (e.g. a body that is not UTF-8 text)"},
     404: {"description": "Unknown id or name"},
     413: {"description": "Request body too large"},
     422: {"description": "Invalid input: field paths and allowed ranges"},

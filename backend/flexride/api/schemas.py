@@ -45,6 +45,13 @@ class ErrorResponse(BaseModel):
 class JobCreate(_Strict):
     """A simulation job: a full scenario, or a preset with dotted-path overrides."""
 
+    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
+        {"preset": "paper-random-straight-80",
+         "overrides": {"duration_s": 2.0, "distance_m": None}},
+        {"scenario": {"preset": "paper-metro", "speed_kmh": 60, "duration_s": 2.0},
+         "name": "metro-60", "reuse": False},
+    ]})
+
     scenario: dict[str, Any] | None = Field(
         None,
         description="Full scenario, see GET /api/v1/schemas/scenario; may start from "
@@ -311,6 +318,12 @@ class StudyCreate(_Strict):
     Give ``preset`` (a study preset, GET /study-presets) or ``base``; axes given here replace
     the preset's. ``overrides`` apply to every job, last (e.g. a shorter ``duration_s``).
     """
+
+    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
+        {"name": "speeds", "base": {"preset": "paper-random-straight-80"},
+         "speeds_kmh": [60, 80], "overrides": {"duration_s": 6.0, "distance_m": None}},
+        {"preset": "paper-table3", "overrides": {"duration_s": 6.0, "distance_m": None}},
+    ]})
 
     name: str | None = Field(None, pattern=_NAME_PATTERN)
     description: str = Field("", max_length=4000)

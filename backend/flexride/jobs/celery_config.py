@@ -47,7 +47,6 @@ def celery_config(settings: Settings) -> dict[str, Any]:
         "worker_cancel_long_running_tasks_on_connection_loss": False,
         "worker_disable_rate_limits": True,
         "worker_send_task_events": False,
-        "worker_hijack_root_logger": False,
         "task_time_limit": hard,
         "task_soft_time_limit": hard * 0.95,
         "task_default_queue": settings.celery_queue,

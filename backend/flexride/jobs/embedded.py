@@ -15,6 +15,7 @@ import logging
 import multiprocessing as mp
 import os
 import threading
+import time
 from collections.abc import Sequence
 from typing import Any
 
@@ -27,6 +28,8 @@ log = logging.getLogger(__name__)
 
 KIND = "embedded"
 _IDLE_POLL_S = 1.0
+_QUICK_DEATH_S = 30.0
+_MAX_BACKOFF_S = 60.0
 
 
 def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid: int) -> None:
@@ -43,11 +46,12 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
         The API process; the worker exits after its current job if that process is gone.
     """
     from flexride.jobs.presence import Presence
-    from flexride.jobs.warmup import warm_numba
+    from flexride.jobs.warmup import limit_blas_threads, warm_numba
     from flexride.study.run_job import JobContext, run_claimed
 
     logging.basicConfig(level=str(settings_data.get("log_level", "info")).upper(),
                         format="%(asctime)s %(levelname)s [%(processName)s] %(message)s")
+    limit_blas_threads(1)  # NumPy was imported while this module loaded
     settings = Settings.model_validate(settings_data)
     name = worker_name(KIND)
     ctx = JobContext.from_settings(settings, name)
@@ -96,6 +100,9 @@ class EmbeddedRunner(JobRunner):
         self._lock = threading.Lock()
         self._stopping = threading.Event()
         self._supervisor: threading.Thread | None = None
+        self._started: list[float] = []
+        self._failures: list[int] = []
+        self._restart_at: list[float] = []
         self.restarts = 0
 
     # -- lifecycle ----------------------------------------------------------------------------
@@ -112,12 +119,17 @@ class EmbeddedRunner(JobRunner):
         self._recover_dead()
         with self._lock:
             self._procs = [self._spawn(i) for i in range(self.settings.workers)]
+            self._failures = [0] * len(self._procs)
+            self._restart_at = [0.0] * len(self._procs)
         self._supervisor = threading.Thread(target=self._supervise, name="flexride-supervisor",
                                             daemon=True)
         self._supervisor.start()
         log.info("embedded runner: %d worker process(es)", self.settings.workers)
 
     def _spawn(self, slot: int):
+        while len(self._started) <= slot:
+            self._started.append(0.0)
+        self._started[slot] = time.monotonic()
         p = self._ctx.Process(
             target=worker_main,
             args=(self.settings.model_dump(mode="json"), self._wake, self._stop, os.getpid()),
@@ -145,17 +157,29 @@ class EmbeddedRunner(JobRunner):
                 for i, p in enumerate(self._procs):
                     if p.is_alive() or self._stopping.is_set():
                         continue
-                    name = worker_name(KIND, p.pid)
-                    reason = f"worker process {p.pid} died (exit code {p.exitcode})"
-                    log.error("embedded runner: %s", reason)
-                    try:
-                        for job in self.store.running_on([name]):
-                            self._lost(job.id, name, reason)
-                        self.store.worker_gone(name)
-                    except Exception:
-                        log.exception("embedded runner: recovery after %s failed", reason)
-                    self._procs[i] = self._spawn(i)
-                    self.restarts += 1
+                    if self._restart_at[i] == 0.0:
+                        self._handle_death(i, p)
+                    if time.monotonic() >= self._restart_at[i]:
+                        self._procs[i] = self._spawn(i)
+                        self._restart_at[i] = 0.0
+                        self.restarts += 1
+
+    def _handle_death(self, i: int, p) -> None:
+        """Recover the dead process's job and schedule its restart (backing off when a
+        process keeps dying right after it starts)."""
+        name = worker_name(KIND, p.pid)
+        reason = f"worker process {p.pid} died (exit code {p.exitcode})"
+        log.error("embedded runner: %s", reason)
+        try:
+            for job in self.store.running_on([name]):
+                self._lost(job.id, name, reason)
+            self.store.worker_gone(name)
+        except Exception:
+            log.exception("embedded runner: recovery after %s failed", reason)
+        lived = time.monotonic() - self._started[i]
+        self._failures[i] = self._failures[i] + 1 if lived < _QUICK_DEATH_S else 0
+        delay = min(_MAX_BACKOFF_S, 2.0 ** self._failures[i]) if self._failures[i] else 0.0
+        self._restart_at[i] = time.monotonic() + delay
 
     def stop(self) -> None:
         """Stop the processes (a running job is interrupted and queued again)."""

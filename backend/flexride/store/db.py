@@ -16,7 +16,6 @@ from pathlib import Path
 
 from sqlalchemy import Engine, create_engine, event, inspect, text
 from sqlalchemy.engine import make_url
-from sqlalchemy.schema import CreateColumn
 
 from flexride.store.models import SCHEMA_VERSION, Base, SchemaInfo
 
@@ -94,8 +93,10 @@ def _add_missing_columns(conn) -> list[str]:
         for column in table.columns:
             if column.name in existing:
                 continue
-            ddl = CreateColumn(column).compile(dialect=conn.dialect)
-            conn.execute(text(f"ALTER TABLE {table.name} ADD COLUMN {ddl}"))
+            # added as nullable: existing rows have no value for it
+            name = conn.dialect.identifier_preparer.quote(column.name)
+            kind = column.type.compile(dialect=conn.dialect)
+            conn.execute(text(f"ALTER TABLE {table.name} ADD COLUMN {name} {kind}"))
             added.append(f"{table.name}.{column.name}")
     return added
 

@@ -6,7 +6,7 @@ compare in SQL (stale heartbeats) and converted to ISO 8601 by the API.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, ClassVar
 
 from sqlalchemy import JSON, Boolean, Float, ForeignKey, Index, Integer, String, Text
 from sqlalchemy.orm import DeclarativeBase, Mapped, deferred, mapped_column
@@ -21,7 +21,7 @@ FINAL_STATUSES = ("succeeded", "failed", "cancelled")
 class Base(DeclarativeBase):
     """Declarative base of the flexride tables."""
 
-    type_annotation_map = {dict[str, Any]: JSON, list[Any]: JSON}
+    type_annotation_map: ClassVar[dict[Any, Any]] = {dict[str, Any]: JSON, list[Any]: JSON}
 
 
 class Study(Base):

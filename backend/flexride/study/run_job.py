@@ -185,6 +185,7 @@ def run_claimed(job: Job, ctx: JobContext) -> str:
         hb.halt.set()
         if ctx.presence is not None:
             ctx.presence.current_job = None
+            ctx.presence.report()
     log.info("job %s %s in %.2f s", job_id, status, time.perf_counter() - t0)
     return status
 

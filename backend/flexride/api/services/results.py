@@ -17,9 +17,9 @@ from flexride.analysis import (
     cross_correlations,
     dominant_peaks,
     frequency_correction,
+    spectrogram,
     sperling_filter,
     sperling_spectral,
-    spectrogram,
     split_quasistatic,
     welch_psd,
 )
