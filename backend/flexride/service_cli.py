@@ -20,8 +20,9 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
+from pydantic import ValidationError
 
-from flexride.settings import API_PREFIX, get_settings
+from flexride.settings import API_PREFIX, Settings, get_settings
 
 _REPO_ROOT = Path(__file__).resolve().parents[2]
 
@@ -35,12 +36,20 @@ def _is_loopback(host: str) -> bool:
         return False
 
 
-def _apply_env(**values: object) -> None:
-    """Put command-line options into the environment (so spawned workers see them too)."""
+def _apply_env(**values: object) -> Settings:
+    """Put command-line options into the environment (so spawned workers see them too) and
+    return the settings; invalid settings end the command with one line per problem."""
     for key, value in values.items():
         if value is not None:
             os.environ[f"FLEXRIDE_{key.upper()}"] = str(value)
     get_settings.cache_clear()
+    try:
+        return get_settings()
+    except ValidationError as exc:
+        for err in exc.errors():
+            name = "FLEXRIDE_" + "_".join(str(p) for p in err["loc"]).upper()
+            typer.echo(f"error: {name}: {err['msg']}", err=True)
+        raise typer.Exit(2) from None
 
 
 def serve(
@@ -55,8 +64,10 @@ def serve(
     """Start the API (and, without a broker, the embedded pool of worker processes)."""
     import uvicorn
 
-    _apply_env(host=host, port=port, workers=workers, data_dir=data_dir)
-    settings = get_settings()
+    from flexride.jobs.warmup import limit_blas_threads
+
+    limit_blas_threads(1)  # concurrent requests, each single-threaded (submission checks)
+    settings = _apply_env(host=host, port=port, workers=workers, data_dir=data_dir)
     bind = settings.bind_host
     if not _is_loopback(bind) and not settings.api_token:
         typer.echo(f"warning: listening on {bind} without FLEXRIDE_API_TOKEN: anyone who can "
@@ -100,8 +111,7 @@ def worker(
     queue: Annotated[str | None, typer.Option(help="Queue (FLEXRIDE_CELERY_QUEUE)")] = None,
 ) -> None:
     """Start a Celery worker that runs jobs from FLEXRIDE_BROKER_URL."""
-    _apply_env(workers=concurrency, log_level=loglevel, celery_queue=queue)
-    settings = get_settings()
+    settings = _apply_env(workers=concurrency, log_level=loglevel, celery_queue=queue)
     if not settings.broker_url:
         typer.echo("error: set FLEXRIDE_BROKER_URL (e.g. redis://127.0.0.1:6379/0) to run a "
                    "worker; without a broker `flexride serve` runs jobs itself", err=True)

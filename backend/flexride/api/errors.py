@@ -68,14 +68,15 @@ def _path_loc(path: str) -> list[str | int]:
 
 
 def error_items(message: str, kind: str) -> list[dict[str, Any]]:
-    """Split a flexride error message (``source: field.path: problem; ...``) into items."""
-    items = []
+    """Split a flexride error message (``source: field.path: problem; ...``) into items; a
+    part that does not start like that continues the previous item's message."""
+    items: list[dict[str, Any]] = []
     for part in message.split("; "):
         m = _ITEM.match(part.strip())
         if m:
             items.append({"loc": _path_loc(m.group("path")), "msg": part.strip(), "type": kind})
-        elif items and not part[:1].isupper() and ":" not in part[:40]:
-            items[-1]["msg"] += "; " + part  # a message that itself contained "; "
+        elif items:
+            items[-1]["msg"] += "; " + part
         else:
             items.append({"loc": [], "msg": part.strip(), "type": kind})
     return items

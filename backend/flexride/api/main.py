@@ -25,7 +25,6 @@ from flexride.api.routes import api_router
 from flexride.api.schemas import ErrorResponse
 from flexride.jobs.factory import make_runner
 from flexride.jobs.reaper import Reaper
-from flexride.jobs.warmup import limit_blas_threads
 from flexride.settings import API_PREFIX, Settings, get_settings
 from flexride.store import JobStore, ResultFiles
 from flexride.study.submit import Submitter
@@ -93,7 +92,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         Configuration; read from ``FLEXRIDE_*`` environment variables by default.
     """
     settings = settings or get_settings()
-    limit_blas_threads(1)  # concurrent requests, each single-threaded (submission checks)
     if not logging.getLogger().handlers:
         logging.basicConfig(level=settings.log_level.upper(),
                             format="%(asctime)s %(levelname)s %(name)s: %(message)s")

@@ -79,11 +79,19 @@ class CeleryRunner(JobRunner):
             self._pending.update(failed)
 
     def cancel(self, job_id: str) -> None:
-        """Revoke the job's message (a worker that already runs it stops through the store)."""
-        try:
-            self.app.control.revoke(job_id)
-        except Exception as exc:
-            log.warning("celery runner: cannot revoke %s: %s", job_id, exc)
+        """Revoke the job's message (a worker that already runs it stops through the store).
+
+        Sent from a background thread: a broker outage must not hold up the request (the
+        store's cancel flag is what counts; the revocation only saves a worker the claim).
+        """
+
+        def revoke() -> None:
+            try:
+                self.app.control.revoke(job_id)
+            except Exception as exc:
+                log.warning("celery runner: cannot revoke %s: %s", job_id, exc)
+
+        threading.Thread(target=revoke, name=f"revoke-{job_id[:8]}", daemon=True).start()
 
     def redispatch(self) -> int:
         """Send again the jobs that failed to send, and all queued jobs after a broker restart."""

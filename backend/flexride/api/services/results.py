@@ -36,18 +36,12 @@ _THIRD_OCTAVE_CENTRES = (0.5, 0.63, 0.8, 1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.
                          10.0, 12.5, 16.0, 20.0, 25.0, 31.5, 40.0)
 
 
-def _f(a: np.ndarray) -> list[float | None]:
-    """Array → list with non-finite values as None."""
+def _f(a: np.ndarray) -> list[Any]:
+    """Array → (nested) list with non-finite values as None."""
     a = np.asarray(a, dtype=np.float64)
-    out = a.tolist()
-    if not np.all(np.isfinite(a)):
-        bad = np.flatnonzero(~np.isfinite(a.ravel()))
-        flat = a.ravel().tolist()
-        for i in bad:
-            flat[i] = None
-        out = flat if a.ndim == 1 else [flat[i:i + a.shape[-1]]
-                                         for i in range(0, len(flat), a.shape[-1])]
-    return out
+    if np.all(np.isfinite(a)):
+        return a.tolist()
+    return np.where(np.isfinite(a), a, None).tolist()
 
 
 def _num(v: Any) -> float | None:
@@ -155,15 +149,14 @@ def spectrum(svc: Services, job_id: str, channels: list[str], kind: str, fmax: f
     for i, name in enumerate(channels):
         peaks = dominant_peaks((f, vals[i]), n=5, rel_prominence=0.05,
                                band_hz=(0.3, fmax), kind=spec.kind)
-        rows.append({"name": name, "unit": data.units[name],
-                     "values": vals[i],
+        rows.append({"name": name,
+                     "unit": f"({data.units[name]})^2/Hz" if kind == "psd" else data.units[name],
                      "peaks": [{"frequency": p.frequency, "amplitude": _num(p.amplitude),
                                 "value": _num(p.value), "prominence": _num(p.prominence)}
                                for p in peaks]})
     f_out, v_out, reduced = _reduce_spectrum(f, vals, max_points)
     for i, row in enumerate(rows):
         row["values"] = _f(v_out[i])
-        row["unit"] = (f"({row['unit']})^2/Hz" if kind == "psd" else row["unit"])
     return {"job_id": job_id, "kind": spec.kind, "frequencies": f_out.tolist(),
             "resolution_hz": spec.resolution_hz, "window": spec.window,
             "n_averages": spec.n_averages, "scaling": spec.scaling, "dynamic": used_dynamic,

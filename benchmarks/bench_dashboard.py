@@ -1,0 +1,255 @@
+"""Print how fast the dashboard is on this machine (a command that prints figures, not a test).
+
+Starts ``flexride serve`` (embedded runner, temporary data directory), runs one job of
+``--duration`` simulated seconds (default 20 s: the "20 s run at full width" of the dashboard
+issue) and times
+
+1. the API requests behind the job view: summary, channel list, the time histories of three
+   channels decimated to a full-width plot (2,400 points), a zoomed range, amplitude spectrum,
+   PSD, spectrogram, Sperling breakdown and cross-correlation;
+2. with the system Chromium (``/usr/bin/chromium``, never downloaded; skipped when absent):
+   the first view (jobs list on screen, target < 1.5 s), Plotly (4.6 MB) loaded in the
+   background after it, the job view with its summary, the
+   time-history plot drawn at 1280 px, a zoom round trip (server decimation of the new range
+   and redraw) and a hover, which tells whether the plot stays responsive.
+
+Usage::
+
+    .venv/bin/python benchmarks/bench_dashboard.py [--duration 20] [--repeat 5] [--no-browser]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+CHANNELS = ["carbody.PC.acc.z", "carbody.PR.acc.z", "carbody.PRB.acc.z"]
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+
+
+def _port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def _get(url: str, body: dict | None = None) -> tuple[float, int, object]:
+    data = json.dumps(body).encode() if body is not None else None
+    req = urllib.request.Request(
+        url, data=data, headers={"Content-Type": "application/json"} if data else {}
+    )
+    t = time.perf_counter()
+    with urllib.request.urlopen(req, timeout=120) as r:
+        raw = r.read()
+    dt = time.perf_counter() - t
+    return dt, len(raw), json.loads(raw) if raw[:1] in (b"{", b"[") else None
+
+
+def _q(params: dict) -> str:
+    from urllib.parse import urlencode
+
+    return urlencode(params, doseq=True)
+
+
+def start_server(data_dir: Path) -> tuple[subprocess.Popen, str]:
+    port = _port()
+    exe = Path(sys.executable).with_name("flexride")
+    cmd = [str(exe)] if exe.is_file() else [sys.executable, "-m", "flexride.cli"]
+    cmd += ["serve", "--host", "127.0.0.1", "--port", str(port), "--data-dir", str(data_dir)]
+    env = {
+        "FLEXRIDE_DATA_DIR": str(data_dir),
+        "FLEXRIDE_FRONTEND_DIR": str(ROOT / "frontend"),
+        "FLEXRIDE_LOG_LEVEL": "warning",
+    }
+    import os
+
+    proc = subprocess.Popen(
+        cmd,
+        env={**os.environ, **env},
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        cwd=ROOT,
+    )
+    url = f"http://127.0.0.1:{port}"
+    end = time.monotonic() + 90
+    while time.monotonic() < end:
+        try:
+            _get(f"{url}/api/v1/health")
+            return proc, url
+        except OSError:
+            time.sleep(0.25)
+    proc.kill()
+    raise SystemExit("flexride serve did not start")
+
+
+def run_job(url: str, duration: float) -> str:
+    _, _, job = _get(
+        f"{url}/api/v1/jobs",
+        {
+            "preset": "paper-random-straight-80",
+            "overrides": {"duration_s": duration, "distance_m": None},
+            "reuse": False,
+        },
+    )
+    t = time.perf_counter()
+    while True:
+        _, _, j = _get(f"{url}/api/v1/jobs/{job['id']}")
+        if j["status"] not in ("queued", "running"):
+            break
+        time.sleep(0.3)
+    if j["status"] != "succeeded":
+        raise SystemExit(f"job {j['status']}: {j.get('error')}")
+    print(
+        f"job of {duration:g} s simulated: {time.perf_counter() - t:.1f} s wall "
+        f"(solver {j['solver_wall_time_s']:.1f} s)"
+    )
+    return job["id"]
+
+
+def bench_api(url: str, job: str, duration: float, repeat: int) -> None:
+    base = f"{url}/api/v1/jobs/{job}"
+    mid = duration / 2
+    cases = [
+        ("summary", f"{base}/summary"),
+        ("channels", f"{base}/channels"),
+        (
+            "series 3 ch, 2400 pts",
+            f"{base}/series?" + _q({"channels": CHANNELS, "max_points": 2400}),
+        ),
+        (
+            "series zoom 1 s",
+            f"{base}/series?"
+            + _q({"channels": CHANNELS, "max_points": 2400, "t_start": mid, "t_end": mid + 1}),
+        ),
+        (
+            "spectrum 2 ch",
+            f"{base}/spectrum?" + _q({"channels": CHANNELS[:2], "fmax": 30, "max_points": 4000}),
+        ),
+        (
+            "psd 2 ch",
+            f"{base}/psd?" + _q({"channels": CHANNELS[:2], "fmax": 30, "max_points": 4000}),
+        ),
+        (
+            "spectrogram",
+            f"{base}/spectrogram?" + _q({"channel": CHANNELS[0], "window_s": 1, "fmax": 30}),
+        ),
+        (
+            "sperling z+y",
+            f"{base}/sperling?" + _q({"channels": ["carbody.PC.acc.z", "carbody.PC.acc.y"]}),
+        ),
+        (
+            "correlation",
+            f"{base}/correlation?"
+            + _q({"reference": "carbody.PRB.acc.z", "channels": ["carbody.PR.acc.z"]}),
+        ),
+    ]
+    print(f"\nAPI behind the job view ({repeat} runs each, median):")
+    print(f"  {'request':<24}{'time (ms)':>10}{'size (kB)':>11}")
+    for name, u in cases:
+        times = []
+        size = 0
+        for _ in range(repeat):
+            dt, size, _ = _get(u)
+            times.append(dt)
+        print(f"  {name:<24}{1e3 * statistics.median(times):>10.1f}{size / 1e3:>11.1f}")
+
+
+def bench_browser(url: str, job: str, repeat: int) -> None:
+    chromium = next(
+        (p for p in ("/usr/bin/chromium", "/usr/bin/chromium-browser") if Path(p).is_file()),
+        shutil.which("chromium"),
+    )
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        print("\nbrowser: skipped (no playwright)")
+        return
+    if not chromium:
+        print("\nbrowser: skipped (no system Chromium)")
+        return
+    rows: dict[str, list[float]] = {}
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=chromium, args=CHROMIUM_ARGS)
+        for _ in range(repeat):
+            ctx = b.new_context(viewport={"width": 1280, "height": 800})
+            pg = ctx.new_page()
+            pg.goto(f"{url}/#/")
+            pg.wait_for_selector("#jobs-table tbody tr[data-id], .notice-empty")
+            rows.setdefault("first view: jobs list (ms)", []).append(
+                pg.evaluate("performance.now()")
+            )
+            pg.wait_for_function("() => !!window.Plotly", timeout=30_000)
+            rows.setdefault("Plotly loaded in the background (ms)", []).append(
+                pg.evaluate("performance.now()")
+            )
+            t = time.perf_counter()
+            pg.goto(f"{url}/#/jobs/{job}")
+            pg.wait_for_selector("#summary-cards")
+            rows.setdefault("job view with summary (ms)", []).append(
+                1e3 * (time.perf_counter() - t)
+            )
+            t = time.perf_counter()
+            pg.get_by_role("tab", name="Time histories").click()
+            pg.wait_for_selector("#plot-time .plot[data-state=ready]")
+            rows.setdefault("time histories drawn (ms)", []).append(1e3 * (time.perf_counter() - t))
+            t = time.perf_counter()
+            with pg.expect_response(lambda r: "/series" in r.url and "t_start" in r.url):
+                pg.eval_on_selector(
+                    "#plot-time .plot", "e => Plotly.relayout(e, {'xaxis.range': [2, 4]})"
+                )
+            pg.wait_for_function(
+                "() => document.querySelector('#plot-time .plot').data[0].x[0] >= 1.99"
+            )
+            rows.setdefault("zoom round trip (ms)", []).append(1e3 * (time.perf_counter() - t))
+            box = pg.locator("#plot-time .plot").bounding_box()
+            t = time.perf_counter()
+            for k in range(20):
+                pg.mouse.move(box["x"] + 80 + 40 * k, box["y"] + box["height"] / 2)
+            pg.evaluate("() => new Promise(r => requestAnimationFrame(() => r()))")
+            rows.setdefault("20 hover moves (ms)", []).append(1e3 * (time.perf_counter() - t))
+            ctx.close()
+        b.close()
+    print(f"\nbrowser, system Chromium at 1280×800 ({repeat} runs, median):")
+    for name, vals in rows.items():
+        print(f"  {name:<38}{statistics.median(vals):>9.0f}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--duration", type=float, default=20.0, help="simulated time of the job (s)")
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--no-browser", action="store_true")
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory(prefix="flexride-bench-") as tmp:
+        proc, url = start_server(Path(tmp))
+        try:
+            job = run_job(url, args.duration)
+            bench_api(url, job, args.duration, args.repeat)
+            if not args.no_browser:
+                bench_browser(url, job, max(1, min(args.repeat, 3)))
+        finally:
+            proc.terminate()
+            proc.wait(timeout=15)
+
+
+if __name__ == "__main__":
+    main()

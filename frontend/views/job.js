@@ -1,0 +1,454 @@
+// Job result: state while queued / running (live progress), the failure reason, and for a
+// finished job: summary cards, time histories, spectra, spectrogram, Sperling breakdown,
+// cross-correlation, wheel–rail forces with running safety; downloads and exports.
+
+import { api, cached } from "../api.js";
+import {
+  h, setChildren, badge, progressBar, duration, when, fmt, fixed, errorBox, notice, loading, tabs,
+  dataTable, prettyUnit, DIRECTION_NAMES, channelLabel,
+} from "../components/dom.js";
+import { plotCard, baseLayout, COLORS } from "../components/plot.js";
+import { seriesPlot, spectrumPlot } from "../components/series.js";
+import { channelMultiSelect, channelSelect, simpleSelect, directionOptions, accPoints } from "../components/channels.js";
+import { confirmButton } from "./jobs.js";
+import { go, replaceQuery } from "../components/nav.js";
+
+const ACTIVE = new Set(["queued", "running"]);
+const HEADLINE = ["PC", "PFB", "PRB", "PR"];
+
+// -- summary helpers (shape of flexride.analysis.Summary.to_dict) ------------------------------
+
+export function sperlingOf(dir) {
+  if (!dir) return { value: null, grade: null, form: null };
+  if (dir.sperling && dir.sperling.value !== null && dir.sperling.value !== undefined) return { value: dir.sperling.value, grade: dir.sperling.grade, form: dir.sperling.form || "spectral" };
+  if (dir.sperling_alternative && dir.sperling_alternative.value !== null && dir.sperling_alternative.value !== undefined) return { value: dir.sperling_alternative.value, grade: dir.sperling_alternative.grade, form: dir.sperling_alternative.form || "filter", fallback: true, why: dir.errors?.sperling };
+  return { value: null, grade: null, form: null, why: dir.errors?.sperling };
+}
+
+export function awOf(dir) {
+  if (!dir?.iso2631) return { value: null, weighting: null };
+  const w = Object.keys(dir.iso2631)[0];
+  return { value: dir.iso2631[w]?.a_w ?? null, weighting: w, comfort: dir.iso2631[w]?.comfort };
+}
+
+export function gradeChip(grade) {
+  return grade ? h("span", { class: `grade grade-${grade}` }, grade) : null;
+}
+
+function metric(label, value, sub, extra) {
+  return h("div", { class: "metric" }, h("div", { class: "label" }, label), h("div", { class: "value" }, value, extra || null), sub ? h("div", { class: "sub" }, sub) : null);
+}
+
+function jobInfo(job) {
+  const rows = [
+    ["Status", badge(job.status)],
+    ["Preset", job.preset || "–"],
+    ["Speed", job.speed_kmh !== null ? `${fmt(job.speed_kmh)} km/h` : "–"],
+    ["Simulated time", job.duration_s !== null ? `${fmt(job.duration_s)} s` : "–"],
+    ["Created", when(job.created_at)],
+    ["Waited", duration(job.queue_time_s)],
+    ["Run time", duration(job.run_time_s)],
+    ["Solver wall time", duration(job.solver_wall_time_s)],
+    ["Runner / worker", `${job.runner}${job.worker ? ` / ${job.worker}` : ""}`],
+    ["Attempts", `${job.attempts} of ${job.max_attempts}`],
+  ];
+  if (job.reused_from) rows.push(["Results reused from", h("a", { href: `#/jobs/${job.reused_from}` }, job.reused_from.slice(0, 8))]);
+  if (job.study_id) rows.push(["Study", h("a", { href: `#/studies/${job.study_id}` }, job.study_id.slice(0, 8)), ...[]]);
+  if (job.axes && Object.keys(job.axes).length) rows.push(["Study axes", Object.entries(job.axes).map(([k, v]) => `${k} = ${v}`).join(", ")]);
+  return h("dl", { class: "kv" }, rows.flatMap(([k, v]) => [h("dt", {}, k), h("dd", {}, v)]));
+}
+
+export default async function render(main, ctx) {
+  const id = ctx.params.id;
+  ctx.title(`Job ${id.slice(0, 8)}`);
+  const head = h("div");
+  const body = h("div", {}, loading("Loading the job…"));
+  main.append(head, body);
+  let timer = null;
+  let shownFinal = false;
+
+  async function poll() {
+    let job;
+    try {
+      job = await api.job(id, { signal: ctx.signal });
+    } catch (err) {
+      if (ctx.signal.aborted) return;
+      if (err.status === 404) {
+        setChildren(head, h("h1", {}, "Job not found"));
+        setChildren(body, notice("error", null, `There is no job ${id}. It may have been deleted. `, h("a", { href: "#/" }, "Back to the jobs.")));
+        return;
+      }
+      setChildren(body, errorBox(err, "Could not load the job"));
+      timer = setTimeout(poll, 5000);
+      return;
+    }
+    if (ctx.signal.aborted) return;
+    ctx.title(job.name);
+    renderHead(job);
+    if (ACTIVE.has(job.status)) {
+      setChildren(body, h("section", { class: "card", "aria-labelledby": "progress-title" },
+        h("h2", { id: "progress-title" }, job.status === "queued" ? "Waiting for a worker" : "Running"),
+        progressBar(job.progress, "Job progress", job.status),
+        h("p", { class: "muted", id: "job-message" }, job.message || ""),
+        h("p", { class: "small muted" }, "This page follows the job and shows the results when it has finished.")));
+      timer = setTimeout(poll, 1000);
+      return;
+    }
+    if (shownFinal) return;
+    shownFinal = true;
+    if (job.status === "failed") {
+      setChildren(body, notice("error", "The job failed", h("p", { id: "job-error" }, job.error || job.message || "No reason was recorded."),
+        h("p", {}, h("a", { href: `#/new?from=${id}` }, "Edit its scenario and submit it again"), ".")));
+      return;
+    }
+    if (job.status === "cancelled") {
+      setChildren(body, notice("warn", "The job was cancelled", job.message || "", job.has_results ? null : " It has no results."));
+      if (!job.has_results) return;
+    }
+    if (!job.has_results) {
+      setChildren(body, notice("warn", "No results", "The job finished without a results file."));
+      return;
+    }
+    await renderResults(job);
+  }
+
+  function renderHead(job) {
+    const actions = [
+      job.has_results ? h("a", { class: "btn", href: api.downloadUrl(id), download: "" }, "Download HDF5") : null,
+      job.has_results ? h("a", { class: "btn", href: `#/compare?jobs=${id}` }, "Compare…") : null,
+      h("a", { class: "btn", href: `#/new?from=${id}` }, "New job from this"),
+      ACTIVE.has(job.status) ? h("button", { type: "button", class: "btn", onclick: async () => {
+        try {
+          await api.cancelJob(id);
+        } catch (err) {
+          setChildren(body, errorBox(err, "Could not cancel"));
+        }
+      } }, "Cancel job") : null,
+      confirmButton("Delete", "Confirm delete", async () => {
+        try {
+          await api.deleteJob(id);
+          go("/");
+        } catch (err) {
+          setChildren(body, errorBox(err, "Could not delete"));
+        }
+      }),
+    ];
+    setChildren(head,
+      h("div", { class: "crumbs" }, h("a", { href: "#/" }, "Jobs"), job.study_id ? [" › ", h("a", { href: `#/studies/${job.study_id}` }, "study")] : null, " › ", id.slice(0, 8)),
+      h("div", { class: "page-head" }, h("h1", {}, job.name, " ", badge(job.status)), h("div", { class: "actions" }, actions)),
+      h("details", { class: "card small" }, h("summary", {}, "Job details"), jobInfo(job)));
+  }
+
+  async function renderResults(job) {
+    setChildren(body, loading("Loading the results…"));
+    let summary;
+    let chans;
+    try {
+      [summary, chans] = await Promise.all([
+        cached(`summary:${id}`, () => api.summary(id)).catch((e) => ({ error: e })),
+        cached(`channels:${id}`, () => api.channels(id)),
+      ]);
+    } catch (err) {
+      setChildren(body, errorBox(err, "Could not load the results"));
+      return;
+    }
+    if (ctx.signal.aborted) return;
+    const s = summary?.summary || null;
+    const channels = chans.channels;
+    const has = (n) => channels.some((c) => c.name === n);
+    const points = accPoints(channels);
+    const floorGrid = points.some((p) => /^F\d+_\d+$/.test(p));
+    const t = tabs([
+      { id: "summary", label: "Summary" },
+      { id: "time", label: "Time histories" },
+      { id: "spectra", label: "Spectra" },
+      { id: "spectrogram", label: "Spectrogram" },
+      { id: "sperling", label: "Sperling" },
+      { id: "correlation", label: "Correlation" },
+      { id: "forces", label: "Forces & safety" },
+    ], (tab, panel) => {
+      const r = { summary: () => summaryPanel(panel, s, summary?.error, chans, floorGrid), time: () => timePanel(panel), spectra: () => spectraPanel(panel), spectrogram: () => spectrogramPanel(panel), sperling: () => sperlingPanel(panel), correlation: () => correlationPanel(panel, s), forces: () => forcesPanel(panel, s) }[tab];
+      r();
+    }, { label: "Results", initial: ctx.query.tab || "summary" });
+    t.onSelect = (tab) => replaceQuery({ tab });
+    setChildren(body, t.el);
+
+    // ---- panels ----
+    function timePanel(panel) {
+      const def = ["carbody.PC.acc.z", "carbody.PRB.acc.z", "carbody.PR.acc.z"].filter(has);
+      const plot = seriesPlot({ title: "Time histories", id: "plot-time", description: "Time histories of the chosen channels", height: 420 });
+      let chosen = (ctx.query.ch ? ctx.query.ch.split(",").filter(has) : def);
+      panel.append(h("div", { class: "three" },
+        h("div", { class: "controls" }, channelMultiSelect({ id: "time-channels", label: "Channels", channels, selected: chosen, max: 8, size: 16, onChange: (names) => {
+          chosen = names;
+          plot.set(chosen.map((c) => ({ job: id, channel: c })));
+        } })),
+        plot.el));
+      plot.set(chosen.map((c) => ({ job: id, channel: c })));
+    }
+
+    function spectraPanel(panel) {
+      let chosen = ["carbody.PC.acc.z", "carbody.PR.acc.z"].filter(has);
+      const p = { fmax: 30, segment_s: 8, dynamic: true, logx: false };
+      const amp = spectrumPlot({ title: "Amplitude spectrum", id: "plot-spectrum", kind: "amplitude", description: "Amplitude spectrum with dominant peaks" });
+      const psd = spectrumPlot({ title: "Power spectral density", id: "plot-psd", kind: "psd", description: "Welch PSD with dominant peaks" });
+      const draw = () => {
+        const src = chosen.map((c) => ({ job: id, channel: c }));
+        amp.set(src, p);
+        psd.set(src, p);
+      };
+      const num = (key, label, unit, attrs) => {
+        const inp = h("input", { type: "number", id: `spec-${key}`, value: String(p[key]), ...attrs, style: { width: "6em" }, onchange: () => {
+          const v = Number(inp.value);
+          if (Number.isFinite(v) && v > 0) {
+            p[key] = v;
+            draw();
+          }
+        } });
+        return h("label", { for: `spec-${key}` }, `${label} (${unit})`, inp);
+      };
+      panel.append(h("div", { class: "three" },
+        h("div", { class: "controls stack" },
+          channelMultiSelect({ id: "spec-channels", label: "Channels", channels, selected: chosen, max: 6, size: 12, filter: (c) => c.quantity !== "rot", onChange: (n) => { chosen = n; draw(); } }),
+          num("fmax", "Up to", "Hz", { min: "1", max: "500", step: "1" }),
+          num("segment_s", "PSD segment", "s", { min: "0.5", max: "60", step: "0.5" }),
+          h("label", { class: "check" }, h("input", { type: "checkbox", checked: true, onchange: (e) => { p.dynamic = e.target.checked; draw(); } }), "Remove the quasi-static part (< 0.3 Hz)"),
+          h("label", { class: "check" }, h("input", { type: "checkbox", onchange: (e) => { p.logx = e.target.checked; draw(); } }), "Logarithmic frequency axis")),
+        h("div", {}, amp.el, psd.el)));
+      draw();
+    }
+
+    function spectrogramPanel(panel) {
+      const p = { channel: has("carbody.PC.acc.z") ? "carbody.PC.acc.z" : channels[0].name, window_s: 1, overlap: 0.75, fmax: 30, log: true };
+      const card = plotCard({ title: "Spectrogram", id: "plot-spectrogram", description: "Spectrogram: frequency against time, colour = power spectral density", height: 420,
+        csv: () => last && ({ header: ["time (s)", ...last.frequencies.map((f) => `${f} Hz`)], rows: last.times.map((tt, j) => [tt, ...last.values.map((row) => row[j])]) }) });
+      let last = null;
+      const draw = async () => {
+        card.loading("Computing the spectrogram on the server…");
+        try {
+          const win = Math.min(p.window_s, Math.max(0.06, (chans.t_end_s - chans.t_start_s) / 2));
+          const sg = await api.spectrogram(id, { channel: p.channel, window_s: win, overlap: p.overlap, fmax: p.fmax });
+          last = sg;
+          const z = p.log ? sg.values.map((row) => row.map((v) => (v > 0 ? Math.log10(v) : null))) : sg.values;
+          const unit = prettyUnit(sg.unit);
+          await card.draw([{
+            type: "heatmap", x: sg.times, y: sg.frequencies, z, colorscale: "Viridis",
+            colorbar: { title: { text: p.log ? `log₁₀ PSD<br>(${unit})` : `PSD (${unit})`, side: "right" } },
+            hovertemplate: `t = %{x:.2f} s<br>f = %{y:.2f} Hz<br>${p.log ? "log₁₀ " : ""}PSD = %{z:.3g}<extra></extra>`,
+          }], baseLayout("Time (s)", "Frequency (Hz)", { margin: { l: 64, r: 24, t: 16, b: 52 } }));
+          card.setNote(`${channelLabel(sg.channel)} – ${sg.method}.`);
+        } catch (err) {
+          card.error(err);
+        }
+      };
+      const num = (key, label, attrs) => {
+        const inp = h("input", { type: "number", id: `sg-${key}`, value: String(p[key]), style: { width: "6em" }, ...attrs, onchange: () => {
+          const v = Number(inp.value);
+          if (Number.isFinite(v)) { p[key] = v; draw(); }
+        } });
+        return h("label", { for: `sg-${key}` }, label, inp);
+      };
+      card.setControls(h("div", { class: "controls" },
+        channelSelect({ id: "sg-channel", label: "Channel", channels, selected: p.channel, filter: (c) => c.quantity === "acc" || c.quantity === "force", onChange: (v) => { p.channel = v; draw(); } }),
+        num("window_s", "Window (s)", { min: "0.1", max: "30", step: "0.1" }),
+        num("overlap", "Overlap (0–0.95)", { min: "0", max: "0.95", step: "0.05" }),
+        num("fmax", "Up to (Hz)", { min: "1", max: "500", step: "1" }),
+        h("label", { class: "check" }, h("input", { type: "checkbox", checked: true, onchange: (e) => { p.log = e.target.checked; draw(); } }), "Logarithmic colour scale")));
+      panel.append(card.el);
+      draw();
+    }
+
+    function sperlingPanel(panel) {
+      let point = points.includes("PC") ? "PC" : points[0];
+      const card = plotCard({ title: "Sperling index by third-octave band", id: "plot-sperling", description: "Contribution of each third-octave band to the Sperling index",
+        csv: () => last && ({ header: ["channel", "band low (Hz)", "band high (Hz)", "W"], rows: last.channels.flatMap((c) => c.bands.map((b) => [c.name, b.f_low_hz, b.f_high_hz, b.w])) }) });
+      let last = null;
+      const recordS = chans.t_end_s - chans.t_start_s + 1 / chans.sample_rate_hz;
+      const draw = async () => {
+        if (recordS < 5 - 1e-6) {
+          card.empty(`The spectral Sperling index needs at least 5 s of record (5 s segments); this run has ${fmt(recordS, 3)} s. The summary shows the filter form instead.`);
+          return;
+        }
+        card.loading("Computing the Sperling breakdown…");
+        const names = ["z", "y"].map((d) => `carbody.${point}.acc.${d}`).filter(has);
+        try {
+          const res = await api.sperling(id, { channels: names });
+          last = res;
+          const traces = res.channels.map((c, i) => ({
+            type: "bar", name: `${DIRECTION_NAMES[c.name.slice(-1)]}: W = ${fixed(c.value)} (${c.grade})`,
+            x: c.bands.map((b) => `${fmt(Math.sqrt(b.f_low_hz * b.f_high_hz), 2)}`), y: c.bands.map((b) => b.w),
+            marker: { color: COLORS[i] }, hovertemplate: "%{x} Hz band: W = %{y:.2f}<extra>%{fullData.name}</extra>",
+          }));
+          await card.draw(traces, baseLayout("Third-octave band centre (Hz)", "Band Sperling value W (–)", { barmode: "group", xaxis: { type: "category" } }));
+          card.setNote(res.channels.map((c) => `${channelLabel(c.name)}: W = ${fixed(c.value)} (${c.grade}), filter form ${fixed(c.filter_value)}. ${c.method}`).join(" "));
+        } catch (err) {
+          card.error(err, "No Sperling breakdown");
+        }
+      };
+      card.setControls(h("div", { class: "controls" }, simpleSelect("sp-point", "Point", points.map((p) => [p, p]), point, (v) => { point = v; draw(); })));
+      panel.append(card.el);
+      draw();
+    }
+
+    function correlationPanel(panel, sum) {
+      let ref = points.includes("PRB") ? "PRB" : points[0];
+      let other = points.includes("PR") ? "PR" : points.find((p) => p !== ref);
+      let dir = "z";
+      let maxLag = 3;
+      const card = plotCard({ title: "Cross-correlation", id: "plot-correlation", description: "Normalised cross-correlation against the lag, maximum marked",
+        csv: () => last && ({ header: ["lag (s)", "normalised R"], rows: last.lags_s.map((l, i) => [l, last.normalised[i]]) }) });
+      let last = null;
+      const draw = async () => {
+        if (ref === other) {
+          card.empty("Choose two different points.");
+          return;
+        }
+        card.loading("Correlating on the server…");
+        try {
+          const lagCap = Math.max(0.05, 0.95 * (chans.t_end_s - chans.t_start_s));
+          const res = await api.correlation(id, { reference: `carbody.${ref}.acc.${dir}`, channels: [`carbody.${other}.acc.${dir}`], max_lag_s: Math.min(maxLag, lagCap) });
+          const c = res.channels[0];
+          last = c;
+          const lag = c.lag_at_max_interpolated_s ?? c.lag_at_max_s;
+          const traces = [
+            { type: "scatter", mode: "lines", name: `R(τ) ${ref} → ${other}`, x: c.lags_s, y: c.normalised, line: { color: COLORS[0], width: 1.4 }, hovertemplate: "τ = %{x:.3f} s: %{y:.3f}<extra></extra>" },
+            { type: "scatter", mode: "markers", name: "local maxima", x: c.local_maxima.map((m) => m.lag), y: c.local_maxima.map((m) => m.normalised), marker: { color: COLORS[2], size: 7, symbol: "circle-open" }, hovertemplate: "τ = %{x:.3f} s: %{y:.3f}<extra>local maximum</extra>" },
+            { type: "scatter", mode: "markers", name: "maximum", x: [c.lag_at_max_s], y: [c.normalised_at_max], marker: { color: COLORS[1], size: 11, symbol: "diamond" }, hovertemplate: "maximum at τ = %{x:.3f} s: %{y:.3f}<extra></extra>" },
+          ];
+          await card.draw(traces, baseLayout("Lag τ (s)", "Normalised cross-correlation (–)", {
+            shapes: [{ type: "line", x0: c.lag_at_max_s, x1: c.lag_at_max_s, yref: "paper", y0: 0, y1: 1, line: { color: COLORS[1], dash: "dash", width: 1.5 } }],
+            annotations: [{ x: c.lag_at_max_s, y: 1, yref: "paper", text: `max at τ = ${fmt(lag, 3)} s`, showarrow: false, yanchor: "bottom", font: { color: COLORS[1] }, bgcolor: "rgba(255,255,255,.85)" }],
+            yaxis: { range: [-1.05, 1.15] },
+          }));
+          card.setNote(`Reference a = ${ref}, b = ${other}, ${DIRECTION_NAMES[dir]}. Maximum ${fmt(c.normalised_at_max, 3)} at τ = ${fmt(lag, 4)} s (${lag > 0 ? `${other} lags ${ref}` : lag < 0 ? `${other} leads ${ref}` : "no delay"}). ${res.convention}.`);
+        } catch (err) {
+          card.error(err);
+        }
+      };
+      const pts = points.filter((p) => !/^F\d+_\d+$/.test(p)).map((p) => [p, p]);
+      const lagIn = h("input", { id: "corr-lag", type: "number", min: "0.1", max: "30", step: "0.1", value: "3", style: { width: "6em" }, onchange: () => { const v = Number(lagIn.value); if (v > 0) { maxLag = v; draw(); } } });
+      card.setControls(h("div", { class: "controls" },
+        simpleSelect("corr-ref", "Reference point (a)", pts, ref, (v) => { ref = v; draw(); }),
+        simpleSelect("corr-other", "Other point (b)", pts, other, (v) => { other = v; draw(); }),
+        simpleSelect("corr-dir", "Direction", directionOptions(["z", "y"]), dir, (v) => { dir = v; draw(); }),
+        h("label", { for: "corr-lag" }, "Largest lag (s)", lagIn)));
+      panel.append(card.el);
+      draw();
+      if (sum?.correlations?.length) {
+        panel.append(h("section", { class: "card" }, dataTable([
+          { key: "pair", label: "Pair (a → b)" },
+          { key: "direction", label: "Direction", format: (v) => DIRECTION_NAMES[v] || v },
+          { key: "lag", label: "Lag of the maximum (s)", num: true, format: (v) => fmt(v, 4) },
+          { key: "value", label: "Normalised maximum", num: true, format: (v) => fmt(v, 3) },
+        ], sum.correlations.map((c) => ({ pair: `${c.reference} → ${c.other}`, direction: c.direction, lag: c.result?.lag_at_max_interpolated ?? c.result?.lag_at_max, value: c.result?.normalised_at_max })),
+        { caption: "Cross-correlations of the summary (reference point against every other)" })));
+      }
+    }
+
+    function forcesPanel(panel, sum) {
+      const wheelsets = [...new Set(channels.filter((c) => c.quantity === "force").map((c) => c.body))].sort();
+      let ws = wheelsets[0];
+      let dir = "z";
+      const plot = seriesPlot({ title: "Wheel–rail forces", id: "plot-forces", description: "Wheel–rail contact forces of the chosen wheelset", height: 380 });
+      const draw = () => plot.set(["left", "right"].map((side, i) => `${ws}.${side}.force.${dir}`).filter(has)
+        .map((c, i) => ({ job: id, channel: c, label: `${ws} ${c.split(".")[1]} wheel, ${dir === "z" ? "vertical Q" : dir === "y" ? "lateral Y" : "normal N"}`, scale: 1e-3, unit: "kN", color: COLORS[i] })));
+      if (!wheelsets.length) panel.append(notice("empty", null, "This run recorded no wheel–rail forces."));
+      else {
+        plot.card.setControls(h("div", { class: "controls" },
+          simpleSelect("force-ws", "Wheelset", wheelsets.map((w) => [w, w.replace("wheelset", "wheelset ")]), ws, (v) => { ws = v; draw(); }),
+          simpleSelect("force-dir", "Force", [["z", "vertical (z)"], ["y", "lateral (y)"], ["n", "normal (n)"]].filter(([d]) => has(`${ws}.left.force.${d}`)), dir, (v) => { dir = v; draw(); })));
+        panel.append(plot.el);
+        draw();
+      }
+      const idx = sum?.safety?.indices || [];
+      const NAMES = { derailment_coefficient: "Derailment coefficient Q/P", wheel_unloading: "Wheel unloading ΔP/P", wheelset_lateral_force: "Wheelset lateral force ΣY" };
+      panel.append(h("section", { class: "card", "aria-labelledby": "safety-title" }, h("h2", { id: "safety-title" }, "Running safety"),
+        idx.length ? dataTable([
+          { key: "name", label: "Index", format: (v) => NAMES[v] || v },
+          { key: "location", label: "Where" },
+          { key: "value", label: "Maximum", num: true, format: (v, r) => `${fmt(v, 3)} ${r.unit === "-" ? "" : prettyUnit(r.unit)}` },
+          { key: "limit", label: "Limit", num: true, format: (v, r) => `${fmt(v, 3)} ${r.unit === "-" ? "" : prettyUnit(r.unit)}` },
+          { key: "utilisation", label: "Utilisation", num: true, format: (v) => (v === null ? "–" : `${(100 * v).toFixed(1)} %`) },
+          { key: "passed", label: "Result", format: (v) => (v === null || v === undefined ? "–" : h("span", { class: v ? "pass" : "fail" }, v ? "passed" : "exceeded")) },
+          { key: "time_of_max", label: "At (s)", num: true, format: (v) => fmt(v, 4) },
+        ], idx, { caption: "Running-safety indices (GB 5599, EN 14363)", className: "table-scroll" })
+          : notice("empty", null, sum?.safety?.error || "No running-safety indices in the summary."),
+        idx.length ? h("details", { class: "help" }, h("summary", {}, "How the indices are processed"),
+          h("ul", {}, [...new Map(idx.map((i) => [i.name, i])).values()].map((i) => h("li", {}, h("strong", {}, `${NAMES[i.name] || i.name}: `),
+            String(i.processing || "").replace(/P0 = [\d.]+ N/g, "P0 = static wheel load"), i.standard ? ` (${i.standard})` : "")))) : null));
+    }
+  }
+
+  // -- summary panel ------------------------------------------------------------------------------
+  function summaryPanel(panel, s, error, chans, floorGrid) {
+    if (!s) {
+      panel.append(error ? errorBox(error, "No analysis summary") : notice("empty", null, "This job has no analysis summary."));
+      return;
+    }
+    const pts = s.points || {};
+    const head = HEADLINE.find((p) => pts[p]) || Object.keys(pts)[0];
+    const d = (p, dir) => pts[p]?.directions?.[dir];
+    const cards = [];
+    if (head) {
+      for (const [dir, name] of [["z", "vertical"], ["y", "lateral"]]) {
+        const sp = sperlingOf(d(head, dir));
+        cards.push(metric(`Sperling ${name} (${head})`, sp.value === null ? "–" : fixed(sp.value), sp.form ? `${sp.form} form${sp.fallback ? " (record shorter than 5 s)" : ""}` : sp.why || "", gradeChip(sp.grade)));
+      }
+      for (const [dir, name] of [["z", "vertical"], ["y", "lateral"]]) {
+        const aw = awOf(d(head, dir));
+        cards.push(metric(`Weighted rms ${name} (${head})`, aw.value === null ? "–" : fmt(aw.value, 3), aw.weighting ? `a_w (${aw.weighting}) in m/s²${aw.comfort ? ` – ${aw.comfort}` : ""}` : ""));
+      }
+      let best = null;
+      for (const [p, ps] of Object.entries(pts)) {
+        for (const [dir, dd] of Object.entries(ps.directions || {})) {
+          const v = dd.peaks?.max_abs;
+          if (typeof v === "number" && (!best || v > best.v)) best = { v, p, dir, t: dd.peaks.time_of_max_abs };
+        }
+      }
+      if (best) cards.push(metric("Largest |acceleration|", fmt(best.v, 3), `m/s² at ${best.p} ${DIRECTION_NAMES[best.dir]}, t = ${fmt(best.t, 3)} s`));
+      const nmv = pts[head]?.mean_comfort;
+      if (nmv?.value !== undefined && nmv?.value !== null) cards.push(metric(`Mean comfort N_MV (${head})`, fixed(nmv.value), `EN 12299 – ${nmv.scale}${nmv.short_run ? " (short run)" : ""}`));
+    }
+    const idx = s.safety?.indices || [];
+    if (idx.length) {
+      const worst = idx.reduce((a, b) => ((b.utilisation ?? 0) > (a.utilisation ?? 0) ? b : a));
+      const allPass = idx.every((i) => i.passed !== false);
+      cards.push(metric("Running safety", h("span", { class: allPass ? "pass" : "fail" }, allPass ? "passed" : "exceeded"), `highest utilisation ${(100 * (worst.utilisation ?? 0)).toFixed(1)} % (${worst.name.replace(/_/g, " ")}, ${worst.location})`));
+    }
+    panel.append(h("div", { class: "cards", id: "summary-cards" }, cards));
+
+    const rows = Object.entries(pts).map(([p, ps]) => {
+      const z = d(p, "z");
+      const y = d(p, "y");
+      return {
+        point: p, floor: ps.on_floor, wz: sperlingOf(z), wy: sperlingOf(y), awz: awOf(z).value, awy: awOf(y).value,
+        pz: z?.peaks?.max_abs ?? null, py: y?.peaks?.max_abs ?? null, rz: z?.peaks?.rms ?? null, ry: y?.peaks?.rms ?? null,
+        fz: z?.dominant_peaks?.[0]?.frequency ?? null, fy: y?.dominant_peaks?.[0]?.frequency ?? null, nmv: ps.mean_comfort?.value ?? null,
+      };
+    });
+    const spCell = (v) => (v.value === null ? "–" : h("span", {}, fixed(v.value), v.fallback ? h("sup", { title: "filter form: the record is shorter than the 5 s the spectral form needs" }, "f") : null, gradeChip(v.grade)));
+    panel.append(h("section", { class: "card" }, dataTable([
+      { key: "point", label: "Point" },
+      { key: "wz", label: "W vertical", num: true, value: (r) => r.wz.value, format: (v, r) => spCell(r.wz) },
+      { key: "wy", label: "W lateral", num: true, value: (r) => r.wy.value, format: (v, r) => spCell(r.wy) },
+      { key: "awz", label: "a_w vertical (m/s²)", num: true },
+      { key: "awy", label: "a_w lateral (m/s²)", num: true },
+      { key: "pz", label: "Peak vertical (m/s²)", num: true },
+      { key: "py", label: "Peak lateral (m/s²)", num: true },
+      { key: "rz", label: "rms vertical (m/s²)", num: true },
+      { key: "ry", label: "rms lateral (m/s²)", num: true },
+      { key: "fz", label: "Dominant f vertical (Hz)", num: true },
+      { key: "fy", label: "Dominant f lateral (Hz)", num: true },
+      { key: "nmv", label: "N_MV (–)", num: true, format: (v) => fixed(v) },
+    ], rows, { caption: "Comfort indices per point (W: Sperling index, a_w: ISO 2631 weighted rms – Wb vertical, Wd lateral)", className: "table-scroll" })));
+    const notes = [...(s.notes || [])];
+    const errs = new Set();
+    for (const ps of Object.values(pts)) for (const dd of Object.values(ps.directions || {})) for (const e of Object.values(dd.errors || {})) errs.add(e.replace(/^\w+Error: /, ""));
+    if (notes.length || errs.size) panel.append(notice("info", "Notes", h("ul", {}, [...notes, ...errs].map((n) => h("li", {}, n)))));
+    if (floorGrid) panel.append(notice("info", null, "This run recorded the floor grid: ", h("a", { href: `#/flex?job=${id}` }, "see the comfort map over the floor"), "."));
+    panel.append(h("p", { class: "small muted" }, `Record: ${fmt(chans.t_start_s, 4)}–${fmt(chans.t_end_s, 4)} s, ${chans.n_samples.toLocaleString("en-GB")} samples at ${fmt(chans.sample_rate_hz)} Hz, ${chans.channels.length} channels. ${s.settings?.sperling?.grades || ""}`));
+  }
+
+  await poll();
+  return () => clearTimeout(timer);
+}

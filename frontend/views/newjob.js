@@ -1,0 +1,239 @@
+// New job: start from a preset (or a job), edit the scenario in a form generated from its JSON
+// schema, or paste / upload YAML or JSON; check and submit.
+
+import { api, cached, isMissingEndpoint, ApiError } from "../api.js";
+import { h, setChildren, notice, errorBox, loading, tabs, saveFile, slug } from "../components/dom.js";
+import { SchemaForm } from "../components/schemaform.js";
+import { parseYamlOrJson, toYaml } from "../components/yaml.js";
+import { go, replaceQuery } from "../components/nav.js";
+
+const DEFAULT_PRESET = "paper-random-straight-80";
+
+/** Deep merge for "preset: NAME" scenario files: mappings merge, lists and kinds replace. */
+export function mergeScenario(base, over) {
+  if (Array.isArray(over) || over === null || typeof over !== "object") return over;
+  if (base === null || typeof base !== "object" || Array.isArray(base)) return over;
+  if (over.kind !== undefined && base.kind !== undefined && over.kind !== base.kind) return over;
+  const out = { ...base };
+  for (const [k, v] of Object.entries(over)) out[k] = k in base ? mergeScenario(base[k], v) : v;
+  return out;
+}
+
+/** A scenario text → full scenario (fetching the preset it starts from, if any). */
+export async function resolveScenario(data) {
+  if (data === null || typeof data !== "object" || Array.isArray(data)) throw new Error("the file must hold a mapping (a scenario), not a list or a value");
+  if (data.scenario && typeof data.scenario === "object") data = data.scenario; // a JobCreate body
+  if (!data.preset) return data;
+  const { preset, ...rest } = data;
+  const base = await api.preset(preset);
+  return mergeScenario(base, rest);
+}
+
+export default async function render(main, ctx) {
+  ctx.title("New job");
+  const q = ctx.query;
+  main.append(h("h1", {}, "New job"), loading("Loading the scenario schema and presets…"));
+  let schema;
+  let presets;
+  let initial;
+  let startLabel;
+  try {
+    [schema, presets] = await Promise.all([
+      cached("schema", api.scenarioSchema), cached("presets", api.presets)]);
+    if (q.from) {
+      initial = await api.jobScenario(q.from);
+      startLabel = `a copy of job ${q.from.slice(0, 8)}`;
+    } else {
+      const name = q.preset && presets.some((p) => p.name === q.preset) ? q.preset : (presets.find((p) => p.name === DEFAULT_PRESET) || presets[0])?.name;
+      initial = await cached(`preset:${name}`, () => api.preset(name));
+      startLabel = `preset ${name}`;
+    }
+  } catch (err) {
+    setChildren(main, h("h1", {}, "New job"), errorBox(err, "The scenario form could not be prepared"));
+    return undefined;
+  }
+  if (ctx.signal.aborted) return undefined;
+
+  const msg = h("div", { id: "submit-message", "aria-live": "polite" });
+  const form = new SchemaForm(schema, initial, { onChange: () => { yamlDirty = false; } });
+  let yamlDirty = false;
+
+  // -- start from ------------------------------------------------------------------------------
+  const presetSel = h("select", { id: "preset-select" },
+    presets.map((p) => h("option", { value: p.name, selected: startLabel === `preset ${p.name}` }, p.name)));
+  const presetDesc = h("p", { class: "help", id: "preset-desc" });
+  const showDesc = () => {
+    presetDesc.textContent = presets.find((p) => p.name === presetSel.value)?.description || "";
+  };
+  presetSel.addEventListener("change", showDesc);
+  showDesc();
+  const startInfo = h("p", { class: "small muted", "aria-live": "polite" }, `Form filled from ${startLabel}.`);
+  const loadPreset = h("button", { type: "button", class: "btn", onclick: async () => {
+    loadPreset.disabled = true;
+    try {
+      const sc = await cached(`preset:${presetSel.value}`, () => api.preset(presetSel.value));
+      form.setValue(sc);
+      editor.value = toYaml(sc);
+      startInfo.textContent = `Form filled from preset ${presetSel.value}.`;
+      replaceQuery({ preset: presetSel.value });
+      setChildren(msg);
+    } catch (err) {
+      setChildren(msg, errorBox(err, "Could not load the preset"));
+    } finally {
+      loadPreset.disabled = false;
+    }
+  } }, "Load preset");
+
+  // -- YAML / JSON editor ------------------------------------------------------------------------
+  const editor = h("textarea", { id: "scenario-text", class: "editor", spellcheck: "false", "aria-describedby": "editor-help", oninput: () => { yamlDirty = true; } });
+  editor.value = toYaml(initial);
+  const fileIn = h("input", { type: "file", id: "scenario-file", accept: ".yaml,.yml,.json,application/json,text/yaml", class: "sr-only", onchange: async () => {
+    const f = fileIn.files?.[0];
+    if (!f) return;
+    editor.value = await f.text();
+    yamlDirty = true;
+    setChildren(editorMsg, notice("info", null, `Loaded ${f.name}. Apply it to the form or submit it as it is.`));
+    fileIn.value = "";
+  } });
+  const editorMsg = h("div", { "aria-live": "polite" });
+  async function parseEditor() {
+    try {
+      return await resolveScenario(parseYamlOrJson(editor.value));
+    } catch (err) {
+      setChildren(editorMsg, err instanceof ApiError ? errorBox(err, "The preset named in the text could not be loaded") : notice("error", "The text is not a valid scenario file", h("p", {}, err.message)));
+      throw err;
+    }
+  }
+
+  const t = tabs([{ id: "form", label: "Form" }, { id: "text", label: "YAML / JSON" }], (id, panel) => {
+    if (id === "form") panel.append(form.el);
+    else {
+      panel.append(
+        h("p", { id: "editor-help", class: "help" }, "Paste or upload a scenario in YAML or JSON. It may start from a preset (", h("code", {}, "preset: paper-metro"), ") and give only what differs."),
+        h("div", { class: "actions" },
+          h("label", { class: "btn", for: "scenario-file" }, "Upload file…"), fileIn,
+          h("button", { type: "button", class: "btn", onclick: async () => {
+            try {
+              const sc = await parseEditor();
+              form.setValue(sc);
+              setChildren(editorMsg, notice("info", null, "Applied to the form."));
+              yamlDirty = false;
+              t.select("form", true);
+            } catch { /* shown */ }
+          } }, "Apply to form"),
+          h("button", { type: "button", class: "btn", onclick: () => saveFile(`${slug(form.value.name)}.yaml`, editor.value, "text/yaml") }, "Download as YAML")),
+        h("label", { for: "scenario-text", class: "sr-only" }, "Scenario text"), editor, editorMsg);
+    }
+  }, { label: "Scenario editor" });
+  t.onSelect = (id) => {
+    if (id === "text" && !yamlDirty) editor.value = toYaml(form.value);
+  };
+
+  // -- submit ------------------------------------------------------------------------------------
+  const reuse = h("input", { type: "checkbox", id: "reuse", checked: true });
+  const submitBtn = h("button", { type: "submit", class: "btn btn-primary", id: "submit-job" }, "Submit job");
+  const checkBtn = h("button", { type: "button", class: "btn", id: "check-job" }, "Check");
+
+  function fromText() {
+    return t.el.querySelector('[role="tab"][aria-selected="true"]')?.id === "tab-text";
+  }
+
+  async function currentScenario() {
+    if (fromText() && yamlDirty) {
+      const sc = await parseEditor();
+      form.setValue(sc);
+      yamlDirty = false;
+    }
+    return form.value;
+  }
+
+  function showServerError(err) {
+    const items = err.items || [];
+    if (err.status === 422 && items.length) {
+      t.select("form", true);
+      const unmatched = form.setServerErrors(items);
+      const extra = [];
+      const dtSuggested = err.body?.dt_suggested;
+      if (dtSuggested) {
+        extra.push(h("button", { type: "button", class: "btn btn-small", onclick: () => {
+          form.value.solver = { ...(form.value.solver || {}), dt: dtSuggested };
+          form.setValue(form.value);
+          setChildren(msg, notice("info", null, `solver.dt set to ${dtSuggested} s.`));
+        } }, `Use solver.dt = ${dtSuggested} s`));
+      }
+      setChildren(msg, notice("error", "The server rejected the scenario", h("p", {}, `${items.length} problem${items.length > 1 ? "s" : ""}; ${unmatched.length ? "see the list above the form" : "each is shown at its field"}.`), ...extra));
+    } else setChildren(msg, errorBox(err, "The job could not be submitted"));
+  }
+
+  checkBtn.addEventListener("click", async () => {
+    setChildren(msg);
+    let sc;
+    try {
+      sc = await currentScenario();
+    } catch {
+      return;
+    }
+    const problems = form.validateAll(true);
+    if (problems.length) {
+      setChildren(msg, notice("error", `${problems.length} problem${problems.length > 1 ? "s" : ""} found`, "Each is marked at its field."));
+      form.focusField(problems[0].path);
+      return;
+    }
+    checkBtn.disabled = true;
+    try {
+      const res = await api.validateScenario({ scenario: sc });
+      const pf = res?.preflight;
+      setChildren(msg, notice("info", "The server accepts this scenario", pf?.stability ? `Stable time step up to ${pf.stability.dt_max?.toExponential(2)} s; ${pf.n_dof} degrees of freedom; output at ${pf.output_rate_hz} Hz.` : null));
+    } catch (err) {
+      if (isMissingEndpoint(err)) {
+        setChildren(msg, notice("info", "No problems found", "Checked against the scenario schema in the browser; the server checks again (with the time-step stability) when you submit."));
+      } else showServerError(err);
+    } finally {
+      checkBtn.disabled = false;
+    }
+  });
+
+  const submitForm = h("form", { class: "stack", novalidate: true, onsubmit: async (e) => {
+    e.preventDefault();
+    setChildren(msg);
+    let sc;
+    try {
+      sc = await currentScenario();
+    } catch {
+      return;
+    }
+    const problems = form.validateAll(true);
+    if (problems.length) {
+      t.select("form", true);
+      setChildren(msg, notice("error", `${problems.length} problem${problems.length > 1 ? "s" : ""} to fix first`, "Each is marked at its field."));
+      form.focusField(problems[0].path);
+      return;
+    }
+    submitBtn.disabled = true;
+    setChildren(msg, loading("Submitting…"));
+    try {
+      const job = await api.submitJob({ scenario: sc, reuse: reuse.checked });
+      setChildren(msg, notice("info", job.reused ? "Results reused" : "Job submitted", `Job ${job.id} – opening it…`));
+      go(`/jobs/${job.id}`);
+    } catch (err) {
+      showServerError(err);
+    } finally {
+      submitBtn.disabled = false;
+    }
+  } },
+  h("label", { class: "check" }, reuse, "Reuse stored results of an identical scenario"),
+  h("div", { class: "actions" }, submitBtn, checkBtn), msg);
+
+  main.replaceChildren(
+    h("h1", {}, "New job"),
+    h("div", { class: "layout-side" },
+      h("div", {}, t.el),
+      h("aside", { class: "side", "aria-label": "Start and submit" },
+        h("section", { class: "card" },
+          h("h2", { class: "h3" }, "Start from"),
+          h("label", { for: "preset-select" }, "Preset"), h("div", { class: "input-row" }, presetSel, loadPreset), presetDesc, startInfo),
+        h("section", { class: "card" }, h("h2", { class: "h3" }, "Submit"),
+          h("p", { class: "help" }, "Values are checked as you type against the schema's ranges; the server's own messages appear at the field they concern."),
+          submitForm))));
+  return undefined;
+}

@@ -1,0 +1,153 @@
+"""Results endpoints on a finished job with known content (synthetic results file):
+channels, decimated series, spectrum, PSD, spectrogram, Sperling breakdown, correlation,
+download."""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pytest
+
+from flexride.analysis import sperling
+from service.svc_testkit import insert_finished_job, services, synthetic_results
+
+API = "/api/v1"
+PR_Z = "carbody.PR.acc.z"
+
+
+@pytest.fixture
+def finished(sqlite_client):
+    svc = services(sqlite_client)
+    res = synthetic_results()
+    job_id = insert_finished_job(svc.store, svc.files, res)
+    return sqlite_client, job_id, res
+
+
+def test_channels_and_summary(finished):
+    client, job_id, res = finished
+    info = client.get(f"{API}/jobs/{job_id}/channels").json()
+    assert info["sample_rate_hz"] == 1000.0 and info["n_samples"] == res.time.size
+    pr = next(c for c in info["channels"] if c["name"] == PR_Z)
+    assert (pr["body"], pr["point"], pr["quantity"], pr["direction"], pr["unit"]) == (
+        "carbody", "PR", "acc", "z", "m/s^2")
+    summary = client.get(f"{API}/jobs/{job_id}/summary").json()["summary"]
+    peak = summary["points"]["PR"]["directions"]["z"]["peaks"]["max_abs"]
+    assert peak == pytest.approx(np.max(np.abs(res.channels[PR_Z])))
+
+
+@pytest.mark.parametrize("method", ["minmax", "lttb"])
+def test_series_are_decimated_with_their_time_axis(finished, method):
+    client, job_id, res = finished
+    r = client.get(f"{API}/jobs/{job_id}/series",
+                   params={"channels": [PR_Z, "carbody.PC.acc.y"], "max_points": 500,
+                           "method": method, "distance": True})
+    assert r.status_code == 200, r.text
+    body = r.json()
+    assert body["decimated"] and body["n_samples"] == res.time.size
+    ch = body["channels"][0]
+    assert ch["name"] == PR_Z and ch["unit"] == "m/s^2"
+    assert 2 < len(ch["time"]) == len(ch["values"]) == len(ch["distance"]) <= 500
+    t, y = np.array(ch["time"]), np.array(ch["values"])
+    assert np.all(np.diff(t) > 0)
+    idx = np.round(t * 1000).astype(int)
+    np.testing.assert_allclose(y, res.channels[PR_Z][idx])
+    if method == "minmax":  # the envelope is exact: extremes survive
+        assert y.max() == res.channels[PR_Z].max() and y.min() == res.channels[PR_Z].min()
+
+
+def test_series_time_range_and_limits(finished):
+    client, job_id, _ = finished
+    body = client.get(f"{API}/jobs/{job_id}/series",
+                      params={"channels": [PR_Z], "t_start": 2.0, "t_end": 3.0,
+                              "method": "none", "max_points": 5000}).json()
+    t = body["channels"][0]["time"]
+    assert not body["decimated"] and len(t) == 1001 and t[0] == 2.0 and t[-1] == 3.0
+    r = client.get(f"{API}/jobs/{job_id}/series",
+                   params={"channels": [PR_Z], "method": "none", "max_points": 100})
+    assert r.status_code == 422
+    r = client.get(f"{API}/jobs/{job_id}/series", params={"channels": ["carbody.XX.acc.z"]})
+    assert r.status_code == 422 and "carbody.PR.acc.z" in r.json()["message"]
+    assert client.get(f"{API}/jobs/{job_id}/series").status_code == 422
+    assert client.get(f"{API}/jobs/nope/series", params={"channels": [PR_Z]}).status_code == 404
+
+
+def test_spectrum_and_psd_find_the_sines(finished):
+    client, job_id, _ = finished
+    for path in ("spectrum", "psd"):
+        r = client.get(f"{API}/jobs/{job_id}/{path}", params={"channels": [PR_Z], "fmax": 20})
+        assert r.status_code == 200, r.text
+        body = r.json()
+        assert body["dynamic"] and max(body["frequencies"]) <= 20.0
+        peaks = sorted(p["frequency"] for p in body["channels"][0]["peaks"][:2])
+        assert peaks == pytest.approx([1.5, 7.0], abs=0.15)
+    amp = client.get(f"{API}/jobs/{job_id}/spectrum",
+                     params={"channels": [PR_Z], "dynamic": False}).json()
+    top = amp["channels"][0]["peaks"][0]
+    assert top["frequency"] == pytest.approx(1.5) and top["amplitude"] == pytest.approx(0.2,
+                                                                                       rel=0.02)
+
+
+def test_spectrogram(finished):
+    client, job_id, _ = finished
+    body = client.get(f"{API}/jobs/{job_id}/spectrogram",
+                      params={"channel": PR_Z, "fmax": 10, "scaling": "magnitude"}).json()
+    f = np.array(body["frequencies"])
+    v = np.array(body["values"])
+    assert v.shape == (f.size, len(body["times"])) and f.max() <= 10
+    assert f[np.argmax(v.mean(axis=1))] == pytest.approx(1.5)
+
+
+def test_sperling_breakdown_adds_up_to_the_index(finished):
+    client, job_id, res = finished
+    body = client.get(f"{API}/jobs/{job_id}/sperling",
+                      params={"channels": [PR_Z, "carbody.PR.acc.y"]}).json()
+    z = body["channels"][0]
+    assert z["direction"] == "vertical" and body["dynamic"]
+    w_i = np.array(z["line_w"])
+    assert np.sum(w_i**10) ** 0.1 == pytest.approx(z["value"], rel=1e-9)
+    bands = np.array([b["w"] for b in z["bands"] if b["w"] is not None])
+    assert np.sum(bands**10) ** 0.1 == pytest.approx(z["value"], rel=1e-9)
+    summary = client.get(f"{API}/jobs/{job_id}/summary").json()["summary"]
+    assert z["value"] == pytest.approx(summary["points"]["PR"]["directions"]["z"]["sperling"]
+                                       ["value"], rel=1e-9)
+    raw = client.get(f"{API}/jobs/{job_id}/sperling",
+                     params={"channels": [PR_Z], "dynamic": False}).json()["channels"][0]
+    x = res.channels[PR_Z]
+    assert raw["value"] == pytest.approx(sperling(x - x.mean(), 1000.0, "z").value, rel=1e-6)
+    r = client.get(f"{API}/jobs/{job_id}/sperling", params={"channels": ["frame1.centre.acc.x"]})
+    assert r.status_code == 422
+
+
+def test_correlation_finds_the_delay(finished):
+    client, job_id, _ = finished
+    body = client.get(f"{API}/jobs/{job_id}/correlation",
+                      params={"reference": "carbody.PRB.acc.z", "channels": [PR_Z],
+                              "max_lag_s": 2.0}).json()
+    ch = body["channels"][0]
+    # PR leads PRB by 0.5 s: the maximum is at -0.5 s (as the paper's -0.57 s)
+    assert ch["lag_at_max_s"] == pytest.approx(-0.5, abs=0.01)
+    assert max(abs(v) for v in ch["lags_s"]) <= 2.0 + 1e-9
+    r = client.get(f"{API}/jobs/{job_id}/correlation",
+                   params={"reference": PR_Z, "channels": [PR_Z]})
+    assert r.status_code == 422
+
+
+def test_download_is_the_hdf5_file(finished, tmp_path):
+    client, job_id, res = finished
+    r = client.get(f"{API}/jobs/{job_id}/download")
+    assert r.status_code == 200 and r.headers["content-type"] == "application/x-hdf5"
+    assert f"{job_id}.h5" in r.headers["content-disposition"]
+    p = tmp_path / "dl.h5"
+    p.write_bytes(r.content)
+    with h5py.File(p) as f:
+        np.testing.assert_array_equal(f["channels"][PR_Z][()], res.channels[PR_Z])
+
+
+def test_results_of_unfinished_jobs_are_409(sqlite_client):
+    r = sqlite_client.post(f"{API}/jobs", json={"preset": "paper-random-straight-80",
+                                                "overrides": {"duration_s": 1.0,
+                                                              "distance_m": None}})
+    job_id = r.json()["id"]
+    for path in ("summary", "channels", "download"):
+        res = sqlite_client.get(f"{API}/jobs/{job_id}/{path}")
+        assert res.status_code == 409 and "queued" in res.json()["detail"]

@@ -1,0 +1,189 @@
+"""Helpers shared by the service tests (API, store, jobs, studies).
+
+PostgreSQL (127.0.0.1:5432, database ``test``) and Redis (127.0.0.1:6379) must be running:
+tests that need them fail, they are never skipped (``tools/ensure_services.sh`` starts them).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import socket
+import subprocess
+import sys
+import time
+import uuid
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from flexride.results import Results
+from flexride.settings import Settings
+from flexride.store import Job, JobStore, ResultFiles, now
+
+REPO = Path(__file__).resolve().parents[2]
+PG_BASE = os.environ.get("FLEXRIDE_TEST_PG_URL",
+                         "postgresql+psycopg://postgres@127.0.0.1:5432/test")
+REDIS_BASE = os.environ.get("FLEXRIDE_TEST_REDIS_URL", "redis://127.0.0.1:6379")
+SHORT = {"duration_s": 1.5, "distance_m": None}
+"""Overrides of a short real run (1.5 s simulated)."""
+
+
+def make_settings(data_dir: Path, **kw: Any) -> Settings:
+    """Settings for a test: data under ``data_dir``, no runner unless given."""
+    kw.setdefault("runner", "none")
+    kw.setdefault("frontend_dir", None)
+    return Settings(_env_file=None, data_dir=data_dir, **kw)
+
+
+@contextlib.contextmanager
+def pg_schema() -> Iterator[str]:
+    """A fresh PostgreSQL schema in database ``test``; yields the URL that uses it."""
+    import psycopg
+
+    name = f"flexride_t_{uuid.uuid4().hex[:10]}"
+    plain = PG_BASE.replace("postgresql+psycopg://", "postgresql://")
+    with psycopg.connect(plain, autocommit=True, connect_timeout=5) as conn:
+        conn.execute(f'CREATE SCHEMA "{name}"')
+    try:
+        yield f"{PG_BASE}?options=-csearch_path%3D{name}"
+    finally:
+        from flexride.store.db import _ENGINES
+
+        for key in [k for k in _ENGINES if name in k[1]]:
+            _ENGINES.pop(key).dispose()
+        with psycopg.connect(plain, autocommit=True, connect_timeout=5) as conn:
+            conn.execute(f'DROP SCHEMA IF EXISTS "{name}" CASCADE')
+
+
+def redis_url(db: int = 9) -> str:
+    """A Redis URL on the local server (a database number of its own)."""
+    return f"{REDIS_BASE}/{db}"
+
+
+def synthetic_results(duration: float = 10.0, fs: float = 1000.0, speed_kmh: float = 80.0,
+                      seed: int = 0) -> Results:
+    """A results object with known content: sines at 1.5 Hz and 7 Hz at PR/PC/PRB/PFB,
+    PR delayed by 0.5 s against PRB, a 1 kHz sample rate."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(round(duration * fs)) / fs
+    channels, units = {}, {}
+
+    def sig(delay: float, amp: float) -> np.ndarray:
+        tt = t - delay
+        return (amp * np.sin(2 * np.pi * 1.5 * tt) + 0.5 * amp * np.sin(2 * np.pi * 7.0 * tt)
+                + 0.01 * rng.standard_normal(t.size))
+
+    for point, delay in (("PR", 0.0), ("PFB", 0.1), ("PC", 0.25), ("PRB", 0.5)):
+        for direction, amp in (("z", 0.2), ("y", 0.1)):
+            name = f"carbody.{point}.acc.{direction}"
+            channels[name] = sig(delay, amp)
+            units[name] = "m/s^2"
+    channels["frame1.centre.acc.z"] = sig(0.0, 1.0)
+    units["frame1.centre.acc.z"] = "m/s^2"
+    return Results(time=t, distance=t * speed_kmh / 3.6, channels=channels, units=units,
+                   scenario={"name": "synthetic", "speed_kmh": speed_kmh},
+                   meta={"output_rate": fs, "speed_kmh": speed_kmh,
+                         "speed_mps": speed_kmh / 3.6, "wall_time_solve_s": 0.1})
+
+
+def insert_finished_job(store: JobStore, files: ResultFiles, results: Results | None = None,
+                        *, name: str = "synthetic", scenario_hash: str | None = None,
+                        summary: dict[str, Any] | None = None, **fields: Any) -> str:
+    """Insert a succeeded job whose result file is ``results`` (synthetic by default)."""
+    from flexride.analysis import analyze
+    from flexride.study.submit import new_id
+
+    results = results or synthetic_results()
+    job_id = new_id()
+    file_name = files.name_for(job_id)
+    results.write_hdf5(files.path(file_name))
+    t = now()
+    values: dict[str, Any] = dict(
+        id=job_id, name=name, status="succeeded", progress=1.0, message="done",
+        created_at=t, updated_at=t, started_at=t, finished_at=t, heartbeat_at=t,
+        runner="none", attempts=1, max_attempts=2, cancel_requested=False,
+        scenario_hash=scenario_hash or uuid.uuid4().hex, speed_kmh=results.meta["speed_kmh"],
+        duration_s=float(results.time[-1]), scenario=results.scenario, axes={},
+        result_file=file_name, run_meta=dict(results.meta),
+        summary=summary if summary is not None else analyze(results).to_dict())
+    values.update(fields)
+    store.add([Job(**values)])
+    return job_id
+
+
+def wait_for(predicate: Callable[[], Any], timeout: float, interval: float = 0.2,
+             what: str = "condition") -> Any:
+    """Poll ``predicate`` until it returns a truthy value; fail after ``timeout`` s."""
+    deadline = time.monotonic() + timeout
+    last = None
+    while time.monotonic() < deadline:
+        last = predicate()
+        if last:
+            return last
+        time.sleep(interval)
+    raise AssertionError(f"timed out after {timeout:g} s waiting for {what} (last: {last!r})")
+
+
+def service_command() -> list[str]:
+    """How to run ``flexride serve|worker``: the CLI when it has the commands, else
+    ``python -m flexride.service_cli`` (same functions)."""
+    try:
+        from flexride.cli import app
+
+        names = {c.name or (c.callback.__name__ if c.callback else "")
+                 for c in app.registered_commands}
+        if {"serve", "worker"} <= names:
+            exe = Path(sys.executable).with_name("flexride")
+            if exe.exists():
+                return [str(exe)]
+    except Exception:
+        pass
+    return [sys.executable, "-m", "flexride.service_cli"]
+
+
+def free_port() -> int:
+    """A free TCP port on 127.0.0.1."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def start_process(args: list[str], env: dict[str, str], log: Path) -> subprocess.Popen:
+    """Start a service process in its own session (so the test can kill its whole group)."""
+    fh = open(log, "ab")
+    return subprocess.Popen(args, env=env, stdout=fh, stderr=subprocess.STDOUT, cwd=REPO,
+                            start_new_session=True)
+
+
+def stop_process(proc: subprocess.Popen, sig: int | None = None, timeout: float = 15.0) -> None:
+    """Stop a process started by :func:`start_process` and everything in its group."""
+    import signal
+
+    if proc.poll() is None:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, sig or signal.SIGTERM)
+        try:
+            proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(5)
+    with contextlib.suppress(ProcessLookupError):
+        os.killpg(proc.pid, signal.SIGKILL)  # children left behind by a killed parent
+
+
+def service_env(**values: str) -> dict[str, str]:
+    """The environment of a service process: this one without FLEXRIDE_* plus ``values``."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("FLEXRIDE_")}
+    env.update({k: str(v) for k, v in values.items()})
+    env["PYTHONPATH"] = os.pathsep.join([str(REPO), env.get("PYTHONPATH", "")]).rstrip(
+        os.pathsep)
+    return env
+
+
+def services(client: Any) -> Any:
+    """The service objects of a TestClient's app."""
+    return client.app.state.services
