@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 from pathlib import Path
@@ -70,8 +71,10 @@ def test_invalid_settings_are_one_line_errors(monkeypatch):
         result = CliRunner().invoke(_app(), ["serve", "--port", "99999"])
         assert result.exit_code == 2 and "FLEXRIDE_PORT" in result.output
     finally:
-        monkeypatch.delenv("FLEXRIDE_WORKERS", raising=False)
-        monkeypatch.delenv("FLEXRIDE_PORT", raising=False)
+        # the CLI writes its options into os.environ itself; monkeypatch.delenv would record
+        # and later restore them, so remove them directly
+        os.environ.pop("FLEXRIDE_WORKERS", None)
+        os.environ.pop("FLEXRIDE_PORT", None)
         get_settings.cache_clear()
 
 
