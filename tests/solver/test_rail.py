@@ -22,8 +22,14 @@ def _rail_block(asm, side, direction):
 def test_unsupported_rail_modes_are_simply_supported_beam_modes():
     """With almost no fastener stiffness, vertical modes → (kπ/L)²·√(EI/m), torsion modes →
     (kπ/L)·√(GJ/ρI₀) (pinned window ends)."""
-    sc = preset("paper-metro", **{"track.fastener.kz": 1.0e5 + 1, "track.fastener.ky": 1.0e5 + 1,
-                                  "track.fastener.k_roll": 1e-6})
+    sc = preset(
+        "paper-metro",
+        **{
+            "track.fastener.kz": 1.0e5 + 1,
+            "track.fastener.ky": 1.0e5 + 1,
+            "track.fastener.k_roll": 1e-6,
+        },
+    )
     asm = assemble(sc)
     n = asm.sys.minv.size
     X = np.zeros(n)
@@ -89,3 +95,93 @@ def test_point_receptance_below_pinned_pinned_frequency():
         analytic = _infinite_beam_receptance(ei, m, kf, cf, f)
         assert abs(modal) == pytest.approx(abs(analytic), rel=0.05), f
     del X0
+
+
+def _fe_discrete_receptance(ei, m, kf, cf, d, n_bays, x0, freqs, ne_per_bay=8):
+    """Independent oracle: Euler–Bernoulli beam of Hermite finite elements (consistent mass)
+    on discrete spring–dampers at every fastener, pinned at the window ends (sparse solve)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spl
+
+    ne = n_bays * ne_per_bay
+    le = d / ne_per_bay
+    nn = ne + 1
+    ke = (
+        ei
+        / le**3
+        * np.array(
+            [
+                [12, 6 * le, -12, 6 * le],
+                [6 * le, 4 * le**2, -6 * le, 2 * le**2],
+                [-12, -6 * le, 12, -6 * le],
+                [6 * le, 2 * le**2, -6 * le, 4 * le**2],
+            ]
+        )
+    )
+    me = (
+        m
+        * le
+        / 420
+        * np.array(
+            [
+                [156, 22 * le, 54, -13 * le],
+                [22 * le, 4 * le**2, 13 * le, -3 * le**2],
+                [54, 13 * le, 156, -22 * le],
+                [-13 * le, -3 * le**2, -22 * le, 4 * le**2],
+            ]
+        )
+    )
+    rows, cols, kv, mv = [], [], [], []
+    for e in range(ne):
+        idx = np.arange(2 * e, 2 * e + 4)
+        rows.extend(np.repeat(idx, 4))
+        cols.extend(np.tile(idx, 4))
+        kv.extend(ke.ravel())
+        mv.extend(me.ravel())
+    K = sp.coo_matrix((kv, (rows, cols)), shape=(2 * nn, 2 * nn)).tocsr()
+    M = sp.coo_matrix((mv, (rows, cols)), shape=(2 * nn, 2 * nn)).tocsr()
+    sup = 2 * ne_per_bay * np.arange(1, n_bays)
+    K = K + sp.coo_matrix((np.full(sup.size, kf), (sup, sup)), shape=K.shape).tocsr()
+    C = sp.coo_matrix((np.full(sup.size, cf), (sup, sup)), shape=K.shape).tocsr()
+    free = np.setdiff1d(np.arange(2 * nn), [0, 2 * (nn - 1)])
+    K, M, C = (A[free][:, free] for A in (K, M, C))
+    row = int(np.searchsorted(free, 2 * round(x0 / le)))
+    out = []
+    for f in freqs:
+        w = 2 * np.pi * f
+        rhs = np.zeros(free.size, complex)
+        rhs[row] = 1.0
+        out.append(spl.spsolve((K - w * w * M + 1j * w * C).tocsc(), rhs)[row])
+    return np.array(out)
+
+
+def test_modal_rail_matches_discretely_supported_fe_beam():
+    """The kernel's modal rail (N − 1 sine modes) against an independent FE model of the same
+    discretely supported, pinned window: within 5 % up to 500 Hz (measured ≤ 3.6 %; the
+    truncation at N − 1 modes shows near the pinned–pinned frequency, ≈ 1.45 kHz)."""
+    sc = preset("paper-metro")
+    asm = assemble(sc)
+    idx = _rail_block(asm, 0, 0)
+    n = asm.sys.minv.size
+    K = -jacobian(asm.sys, np.zeros(n), np.zeros(n), 0.0, -1000.0, idx)[idx]
+    C = -jacobian(asm.sys, np.zeros(n), np.zeros(n), 0.0, -1000.0, idx, wrt_velocity=True)[idx]
+    tr = sc.track
+    m = tr.rail.density * tr.rail.area
+    L, d = asm.rail.length, asm.rail.spacing
+    x0 = d * (asm.rail.n_bays // 2 + 0.5)
+    phi = np.sin(np.arange(1, idx.size + 1) * np.pi * x0 / L)
+    freqs = (20.0, 100.0, 200.0, 300.0, 400.0, 500.0)
+    fe = _fe_discrete_receptance(
+        tr.rail.youngs_modulus * tr.rail.iy,
+        m,
+        tr.fastener.kz,
+        tr.fastener.cz,
+        d,
+        asm.rail.n_bays,
+        x0,
+        freqs,
+    )
+    for f, ref in zip(freqs, fe, strict=True):
+        w = 2 * np.pi * f
+        modal = phi @ np.linalg.solve(K - w**2 * np.eye(idx.size) + 1j * w * C, (2 / L) * phi / m)
+        assert abs(modal) == pytest.approx(abs(ref), rel=0.05), f
