@@ -100,3 +100,17 @@ def test_identical_scenario_reuses_stored_results_unless_opted_out(client):
     assert client.get(f"{API}/jobs/{job['id']}/download").status_code == 200
     r = _submit(client, reuse=False)
     assert r.json()["status"] == "queued" and not r.json()["reused"]
+
+
+def test_validate_checks_without_creating_a_job(sqlite_client):
+    ok = sqlite_client.post("/api/v1/jobs/validate", json={"preset": "paper-metro",
+                                                            "overrides": SHORT})
+    assert ok.status_code == 200 and ok.json()["valid"] is True
+    assert ok.json()["preflight"]["stability"]["dt_suggested"] > 0
+    bad = sqlite_client.post("/api/v1/jobs/validate", json={
+        "preset": "paper-metro", "overrides": {**SHORT, "vehicle.carbody.mass": -1}})
+    assert bad.status_code == 422 and "vehicle.carbody.mass" in bad.text
+    unstable = sqlite_client.post("/api/v1/jobs/validate", json={
+        "preset": "paper-metro", "overrides": {**SHORT, "solver.dt": 1e-3}})
+    assert unstable.status_code == 422 and unstable.json()["dt_suggested"] > 0
+    assert sqlite_client.get("/api/v1/jobs").json()["total"] == 0

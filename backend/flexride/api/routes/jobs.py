@@ -28,6 +28,15 @@ def submit_job(body: JobCreate, svc: ServicesDep) -> dict[str, Any]:
     return svc_jobs.create_job(svc, body)
 
 
+@router.post("/validate", response_model=dict[str, Any], summary="Validate a job request",
+             responses={422: {"description": "Invalid scenario or unstable time step"}})
+def validate_job(body: JobCreate) -> dict[str, Any]:
+    """Check a job request as ``POST /jobs`` would (field validation and time-step
+    stability), without creating a job: ``{"valid": true, "preflight": {...}}`` or the same
+    422 as a submission (field paths, allowed ranges, ``dt_suggested``)."""
+    return svc_jobs.validate_job(body)
+
+
 @router.get("", response_model=JobList, summary="List jobs")
 def list_jobs(
     svc: ServicesDep,

@@ -67,6 +67,15 @@ def create_job(svc: Services, body: JobCreate) -> dict[str, Any]:
     return {**job_out(sub.job, svc), "reused": sub.reused, "preflight": sub.preflight}
 
 
+def validate_job(body: JobCreate) -> dict[str, Any]:
+    """Validate and check a job request exactly as :func:`create_job` does, without creating
+    anything: 200 with the submission check, or the same 422 as a submission."""
+    from flexride.study.scenarios import check_submission
+
+    scenario = resolve_scenario(body.scenario, body.preset, body.overrides)
+    return {"valid": True, "preflight": check_submission(scenario)}
+
+
 def get_job(svc: Services, job_id: str, *, scenario: bool = False,
             summary: bool = False) -> Job:
     """The job or :class:`NotFound`."""
