@@ -55,6 +55,12 @@ class BodyModes:
     reduced_modes: np.ndarray | None = None
     node_names: dict[str, int] = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        # markers added later (suspension points, user and floor-grid points) take their
+        # elastic shapes from the nearest node
+        if self.body.shape_at is None:
+            self.body.shape_at = self.shape_at
+
     @property
     def cg(self) -> np.ndarray:
         """CG in model coordinates (m)."""

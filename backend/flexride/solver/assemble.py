@@ -99,10 +99,7 @@ def _flexible(kind: str, scenario: Scenario, settings, name: str, x_ref: float):
     fb = build_flexible_body(kind, scenario.vehicle, method=settings.reduction,
                              cutoff_hz=settings.cutoff_hz, damping_ratio=settings.damping_ratio,
                              element_size=settings.element_size_m, name=name, x_ref=x_ref)
-    body = fb.body
-    if body.shape_at is None:
-        body.shape_at = fb.shape_at  # markers anywhere: elastic shapes at the nearest node
-    return body
+    return fb.body
 
 
 def vehicle_for(scenario: Scenario) -> VehicleModel:

@@ -318,10 +318,8 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
                 s_next = c2 * s_cur - s_prev
                 s_prev = s_cur
                 s_cur = s_next
-        xw_ = X[o + 0]
         yw, zw, rw, psw = X[o + 1], X[o + 2], X[o + 3], X[o + 5]
         vxw, vyw, vrw, vbw, vpsw = V[o + 0], V[o + 1], V[o + 3], V[o + 4], V[o + 5]
-        _ = xw_
         for side in range(2):
             sg = 1.0 if side == 0 else -1.0
             oz = nv + (3 * side) * nm
