@@ -40,7 +40,7 @@ def _fresh_process_time(cache_dir: str) -> float:
     return float(out.stdout.strip().splitlines()[-1])
 
 
-def _part_timings(asm, X0, s0, n=20000):
+def _part_timings(asm, X0, s0, n=20000, repeats=3):
     from flexride.solver.forces import contact_forces, rail_forces, vehicle_forces
     from flexride.solver.kernel import zhai_update
 
@@ -78,9 +78,12 @@ def _part_timings(asm, X0, s0, n=20000):
                                             np.zeros_like(X))),
     ):
         fn(*args, 10)  # compile
-        t = time.perf_counter()
-        fn(*args, n)
-        out[name] = (time.perf_counter() - t) / n
+        best = float("inf")
+        for _ in range(repeats):  # CPU time, best of a few: robust to other load on the machine
+            t = time.process_time()
+            fn(*args, n)
+            best = min(best, time.process_time() - t)
+        out[name] = best / n
     return out
 
 
@@ -125,23 +128,37 @@ def main() -> None:
     for name, t in parts.items():
         print(f"  {name:<20s}: {t * 1e6:6.2f} µs/step ({100 * t / total:4.1f} %)")
 
-    # flexible vehicle: calibrated 0.2 m car body (modes to 40 Hz) and both frames (to 100 Hz)
+    # flexible vehicle: calibrated 0.2 m car body and both frames, elastic modes to 100 Hz
     flex_overrides = {"duration_s": 10.0, "bodies.carbody.model": "flexible",
+                      "bodies.carbody.cutoff_hz": 100.0,
                       "bodies.frames.model": "flexible", "bodies.frames.cutoff_hz": 100.0}
     if args.quick:
         flex_overrides["bodies.carbody.element_size_m"] = 0.5
     from flexride.solver.assemble import vehicle_for
 
     flex_sc = load_preset("paper-metro-random", flex_overrides)
+    rigid_sc = load_preset("paper-metro-random", {"duration_s": 10.0})
     t0 = time.perf_counter()
     veh = vehicle_for(flex_sc)
     t_build = time.perf_counter() - t0
-    flex = simulate(flex_sc, vehicle=veh)
-    rigid_again = simulate(load_preset("paper-metro-random", {"duration_s": 10.0}))
-    n_el = veh.bodies[0].n_elastic + veh.bodies[1].n_elastic + veh.bodies[2].n_elastic
-    ratio = flex.meta["wall_time_solve_s"] / rigid_again.meta["wall_time_solve_s"]
-    print(f"flexible vehicle ({n_el} elastic modes; bodies built/loaded in {t_build:.1f} s): "
-          f"{flex.meta['wall_time_solve_s']:.3f} s per 10 s, {ratio:.2f}× rigid (target ≤ 1.5×)")
+    n_el = [b.n_elastic for b in veh.bodies[:3]]
+    # alternate rigid and flexible runs and keep the best of each, so that load from other
+    # processes on the machine does not decide the ratio
+    t_flex, t_rigid = [], []
+    for _ in range(3):
+        t_flex.append(simulate(flex_sc, vehicle=veh).meta["wall_time_solve_s"])
+        t_rigid.append(simulate(rigid_sc).meta["wall_time_solve_s"])
+    ratio = min(t_flex) / min(t_rigid)
+    print(f"flexible vehicle, modes to 100 Hz (car body {n_el[0]}, frames {n_el[1]} + {n_el[2]} "
+          f"elastic modes; built/loaded in {t_build:.1f} s):")
+    print(f"  {min(t_flex):.3f} s per 10 s (rigid {min(t_rigid):.3f} s), {ratio:.2f}× rigid "
+          f"(target ≤ 1.5×: {'met' if ratio <= 1.5 else 'MISSED'})")
+    fasm = assemble(load_preset("paper-metro-random", {**flex_overrides, "duration_s": 1.0}),
+                    vehicle=veh)
+    fs0 = initial_window_start(fasm)
+    fparts = _part_timings(fasm, static_equilibrium(fasm, 0.0, fs0), fs0)
+    for name, t in fparts.items():
+        print(f"  {name:<20s}: {t * 1e6:6.2f} µs/step (rigid {parts[name] * 1e6:5.2f})")
 
     if not args.quick:
         long = simulate(load_preset("paper-metro-random", {"duration_s": 100.0}))

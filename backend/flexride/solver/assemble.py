@@ -363,6 +363,7 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
         ch_kind=np.ascontiguousarray(ch[:, 0]),
         ch_a=np.ascontiguousarray(ch[:, 1]),
         ch_b=np.ascontiguousarray(ch[:, 2]),
+        body_line=np.zeros((nb, S.N_BL)),
     )
     return Assembly(
         sys=sysarr,

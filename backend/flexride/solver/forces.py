@@ -24,6 +24,11 @@ from flexride.solver.system import (
     AUX_N,
     AUX_RAIL_Y,
     AUX_RAIL_Z,
+    BL_DROLL,
+    BL_HEADING,
+    BL_HINT,
+    BL_KAPPA,
+    BL_ROLL,
     CT_C11,
     CT_C22,
     CT_C23,
@@ -140,8 +145,56 @@ def frame_specific_force(sys, s):
 
 
 @numba.njit(cache=True, fastmath=_FM)
+def _marker_kinematics3(phi, p, nd, r0, X, V, o):
+    """Rows ``r0 … r0+2`` of a marker matrix (offset ``p`` in ``phi``, ``nd`` columns) applied to
+    the body's coordinates and velocities (offset ``o``) in one pass: (u0, u1, u2, v0, v1, v2)."""
+    b0 = p + r0 * nd
+    row0 = phi[b0:b0 + nd]
+    row1 = phi[b0 + nd:b0 + 2 * nd]
+    row2 = phi[b0 + 2 * nd:b0 + 3 * nd]
+    x = X[o:o + nd]
+    v = V[o:o + nd]
+    u0 = 0.0
+    u1 = 0.0
+    u2 = 0.0
+    v0 = 0.0
+    v1 = 0.0
+    v2 = 0.0
+    # contiguous views (not offsets into the flat arrays) let LLVM vectorise the loop
+    for j in range(nd):
+        xj = x[j]
+        vj = v[j]
+        u0 += row0[j] * xj
+        u1 += row1[j] * xj
+        u2 += row2[j] * xj
+        v0 += row0[j] * vj
+        v1 += row1[j] * vj
+        v2 += row2[j] * vj
+    return u0, u1, u2, v0, v1, v2
+
+
+@numba.njit(cache=True, fastmath=_FM)
+def _marker_force3(phi, p, nd, r0, F, o, f0, f1, f2):
+    """Add the generalised force of marker forces (f0, f1, f2) on rows ``r0 … r0+2``:
+    F[o:o+nd] += Φ[r0:r0+3]ᵀ f, in one pass."""
+    b0 = p + r0 * nd
+    row0 = phi[b0:b0 + nd]
+    row1 = phi[b0 + nd:b0 + 2 * nd]
+    row2 = phi[b0 + 2 * nd:b0 + 3 * nd]
+    f = F[o:o + nd]
+    for j in range(nd):
+        f[j] += f0 * row0[j] + f1 * row1[j] + f2 * row2[j]
+
+
+@numba.njit(cache=True, fastmath=_FM)
 def vehicle_forces(sys, X, V, s, F):
-    """Inertial (track frame), gravity, elastic and suspension forces on the vehicle bodies."""
+    """Inertial (track frame), gravity, elastic and suspension forces on the vehicle bodies.
+
+    The line geometry is looked up once per body (not per element) into ``sys.body_line``;
+    each element's translation and rotation rows are evaluated in one fused pass over the
+    coordinates of each of its two bodies (the cost of a flexible body grows with its number of
+    modes times the number of its attachment markers, DESIGN §3.5).
+    """
     fp = sys.fpar
     ip = sys.ipar
     nb = ip[I_NBODIES]
@@ -149,18 +202,34 @@ def vehicle_forces(sys, X, V, s, F):
     phi = sys.phi
     ln = sys.line
     ls0, lds = fp[F_LN_S0], fp[F_LN_DS]
-    # bodies: gravity + frame acceleration on rigid coordinates, elastic restoring forces
+    bl = sys.body_line
+    # bodies: gravity + frame acceleration on rigid coordinates, elastic restoring forces, and
+    # the line values at each body (heading, lateral offset, roll, curvature, d(roll)/ds)
     for b in range(nb):
         o = sys.body_off[b]
         nd = sys.body_ndof[b]
         sb = s + sys.body_x[b]
-        f_y, f_z, kap, _roll, dk = frame_specific_force(sys, sb)
+        f_y, f_z, kap, roll, dk = frame_specific_force(sys, sb)
+        bl[b, BL_HEADING] = table_value(ln[LN_HEADING], ls0, lds, sb)
+        bl[b, BL_HINT] = table_value(ln[LN_HINT], ls0, lds, sb)
+        bl[b, BL_ROLL] = roll
+        bl[b, BL_KAPPA] = kap
+        bl[b, BL_DROLL] = (
+            table_value(ln[LN_ROLL], ls0, lds, sb + 0.5 * lds)
+            - table_value(ln[LN_ROLL], ls0, lds, sb - 0.5 * lds)
+        ) / lds
         m = sys.body_mass[b]
         F[o + 1] -= m * f_y
         F[o + 2] -= m * f_z
         F[o + 5] -= sys.body_inertia[b, 2] * speed * speed * dk
-        for j in range(6, nd):
-            F[o + j] -= sys.kdiag[o + j] * X[o + j] + sys.cdiag[o + j] * V[o + j]
+        if nd > 6:
+            fe = F[o + 6:o + nd]
+            ke = sys.kdiag[o + 6:o + nd]
+            ce = sys.cdiag[o + 6:o + nd]
+            xe = X[o + 6:o + nd]
+            ve = V[o + 6:o + nd]
+            for j in range(nd - 6):
+                fe[j] -= ke[j] * xe[j] + ce[j] * ve[j]
         if sys.body_ws[b] == 1:
             # spin gyroscopics: I_y Ω (ψ̇ + Vκ) in roll, −I_y Ω φ̇ in yaw
             h = sys.body_inertia[b, 1] * speed / fp[F_R0]
@@ -179,71 +248,46 @@ def vehicle_forces(sys, X, V, s, F):
         oa, na = sys.body_off[a], sys.body_ndof[a]
         ob, nbd = sys.body_off[bb], sys.body_ndof[bb]
         pa, pb = sys.el_phia[e], sys.el_phib[e]
-        sa = s + sys.body_x[a]
-        sbp = s + sys.body_x[bb]
         L = sys.body_x[bb] - sys.body_x[a]
         # relative placement of B's track frame seen from A's (small angles)
-        ha = table_value(ln[LN_HEADING], ls0, lds, sa)
-        hb = table_value(ln[LN_HEADING], ls0, lds, sbp)
-        Ha = table_value(ln[LN_HINT], ls0, lds, sa)
-        Hb = table_value(ln[LN_HINT], ls0, lds, sbp)
-        ra = table_value(ln[LN_ROLL], ls0, lds, sa)
-        rb = table_value(ln[LN_ROLL], ls0, lds, sbp)
-        ka = table_value(ln[LN_KAPPA], ls0, lds, sa)
-        kb = table_value(ln[LN_KAPPA], ls0, lds, sbp)
-        dyh = (Hb - Ha) - ha * L
+        ha, hb = bl[a, BL_HEADING], bl[bb, BL_HEADING]
+        ra, rb = bl[a, BL_ROLL], bl[bb, BL_ROLL]
+        ka, kb = bl[a, BL_KAPPA], bl[bb, BL_KAPPA]
+        dyh = (bl[bb, BL_HINT] - bl[a, BL_HINT]) - ha * L
         dh = hb - ha
         dphi = rb - ra
         # rates along the line (d/ds), times speed below
         ddyh = dh - ka * L
         ddh = kb - ka
-        ddphi = (
-            table_value(ln[LN_ROLL], ls0, lds, sbp + 0.5 * lds)
-            - table_value(ln[LN_ROLL], ls0, lds, sbp - 0.5 * lds)
-            - table_value(ln[LN_ROLL], ls0, lds, sa + 0.5 * lds)
-            + table_value(ln[LN_ROLL], ls0, lds, sa - 0.5 * lds)
-        ) / lds
+        ddphi = bl[bb, BL_DROLL] - bl[a, BL_DROLL]
         cra, sra = math.cos(ra), math.sin(ra)
         xb, yb, zb = sys.el_pb[e, 0], sys.el_pb[e, 1], sys.el_pb[e, 2]
-        g0 = -dh * yb
-        g1 = cra * dyh + dh * xb - dphi * zb
-        g2 = -sra * dyh + dphi * yb
-        gd0 = speed * (-ddh * yb)
-        gd1 = speed * (cra * ddyh + ddh * xb - ddphi * zb)
-        gd2 = speed * (-sra * ddyh + ddphi * yb)
-        xa = X[oa:oa + na]
-        vva = V[oa:oa + na]
-        fa = F[oa:oa + na]
-        xb_ = X[ob:ob + nbd]
-        vvb = V[ob:ob + nbd]
-        fb = F[ob:ob + nbd]
-        for r in range(6):
-            kr = sys.el_k[e, r]
-            cr = sys.el_c[e, r]
-            if kr == 0.0 and cr == 0.0:
-                continue
-            rowa = phi[pa + r * na:pa + (r + 1) * na]
-            rowb = phi[pb + r * nbd:pb + (r + 1) * nbd]
-            da = _dot(rowa, xa) - _dot(rowb, xb_)
-            va = _dot(rowa, vva) - _dot(rowb, vvb)
-            if r == 0:
-                da -= g0
-                va -= gd0
-            elif r == 1:
-                da -= g1
-                va -= gd1
-            elif r == 2:
-                da -= g2
-                va -= gd2
-            elif r == 3:
-                da -= dphi
-                va -= speed * ddphi
-            elif r == 5:
-                da -= dh
-                va -= speed * ddh
-            f = -kr * da - cr * va
-            _axpy(f, rowa, fa)
-            _axpy(-f, rowb, fb)
+        k0, k1, k2 = sys.el_k[e, 0], sys.el_k[e, 1], sys.el_k[e, 2]
+        c0, c1, c2 = sys.el_c[e, 0], sys.el_c[e, 1], sys.el_c[e, 2]
+        if k0 != 0.0 or k1 != 0.0 or k2 != 0.0 or c0 != 0.0 or c1 != 0.0 or c2 != 0.0:
+            ua0, ua1, ua2, va0, va1, va2 = _marker_kinematics3(phi, pa, na, 0, X, V, oa)
+            ub0, ub1, ub2, vb0, vb1, vb2 = _marker_kinematics3(phi, pb, nbd, 0, X, V, ob)
+            d0 = ua0 - ub0 + dh * yb
+            d1 = ua1 - ub1 - (cra * dyh + dh * xb - dphi * zb)
+            d2 = ua2 - ub2 - (-sra * dyh + dphi * yb)
+            w0 = va0 - vb0 - speed * (-ddh * yb)
+            w1 = va1 - vb1 - speed * (cra * ddyh + ddh * xb - ddphi * zb)
+            w2 = va2 - vb2 - speed * (-sra * ddyh + ddphi * yb)
+            f0 = -k0 * d0 - c0 * w0
+            f1 = -k1 * d1 - c1 * w1
+            f2 = -k2 * d2 - c2 * w2
+            _marker_force3(phi, pa, na, 0, F, oa, f0, f1, f2)
+            _marker_force3(phi, pb, nbd, 0, F, ob, -f0, -f1, -f2)
+        k3, k4, k5 = sys.el_k[e, 3], sys.el_k[e, 4], sys.el_k[e, 5]
+        c3, c4, c5 = sys.el_c[e, 3], sys.el_c[e, 4], sys.el_c[e, 5]
+        if k3 != 0.0 or k4 != 0.0 or k5 != 0.0 or c3 != 0.0 or c4 != 0.0 or c5 != 0.0:
+            ua0, ua1, ua2, va0, va1, va2 = _marker_kinematics3(phi, pa, na, 3, X, V, oa)
+            ub0, ub1, ub2, vb0, vb1, vb2 = _marker_kinematics3(phi, pb, nbd, 3, X, V, ob)
+            f0 = -k3 * (ua0 - ub0 - dphi) - c3 * (va0 - vb0 - speed * ddphi)
+            f1 = -k4 * (ua1 - ub1) - c4 * (va1 - vb1)
+            f2 = -k5 * (ua2 - ub2 - dh) - c5 * (va2 - vb2 - speed * ddh)
+            _marker_force3(phi, pa, na, 3, F, oa, f0, f1, f2)
+            _marker_force3(phi, pb, nbd, 3, F, ob, -f0, -f1, -f2)
 
 
 @numba.njit(cache=True, fastmath=_FM)

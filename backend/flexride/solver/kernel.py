@@ -127,13 +127,19 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
         o = sys.body_off[b]
         nd = sys.body_ndof[b]
         base = sys.pt_phi[p]
+        # contiguous views, so that the loop vectorises
+        row_y = phi[base + nd:base + 2 * nd]
+        row_z = phi[base + 2 * nd:base + 3 * nd]
+        row_rx = phi[base + 3 * nd:base + 4 * nd]
+        xb = X[o:o + nd]
+        vb = V[o:o + nd]
         vy = 0.0
         vz = 0.0
         rx = 0.0
         for j in range(nd):
-            vy += phi[base + nd + j] * V[o + j]
-            vz += phi[base + 2 * nd + j] * V[o + j]
-            rx += phi[base + 3 * nd + j] * X[o + j]
+            vy += row_y[j] * vb[j]
+            vz += row_z[j] * vb[j]
+            rx += row_rx[j] * xb[j]
         ay = (vy - ptv[p, 0]) / tout
         az = (vz - ptv[p, 1]) / tout
         ptv[p, 0] = vy

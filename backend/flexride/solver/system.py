@@ -32,6 +32,10 @@ N_CT = 10
 # --- line table rows -------------------------------------------------------------------------
 LN_KAPPA, LN_ROLL, LN_HEADING, LN_HINT, LN_DKAPPA = range(5)
 
+# --- per-body line values (body_line[body, field]), scratch filled by vehicle_forces --------
+BL_HEADING, BL_HINT, BL_ROLL, BL_KAPPA, BL_DROLL = range(5)
+N_BL = 5
+
 # --- irregularity rows -----------------------------------------------------------------------
 IRR_ZL, IRR_ZR, IRR_YL, IRR_YR = range(4)
 
@@ -85,3 +89,5 @@ class SystemArrays(NamedTuple):
     ch_kind: np.ndarray  # int64[nch]
     ch_a: np.ndarray  # int64[nch]
     ch_b: np.ndarray  # int64[nch]
+    # scratch: the kernel writes here, so one SystemArrays serves one thread at a time
+    body_line: np.ndarray  # float64[nb, N_BL] line values at each body, see BL_*
