@@ -44,3 +44,40 @@ def test_not_a_results_file(tmp_path):
         Results.read_hdf5(p)
     with pytest.raises(ResultsFileError, match="not found"):
         Results.read_hdf5(tmp_path / "missing.h5")
+
+
+def test_points_are_written_with_the_file_and_read_back(tmp_path):
+    from flexride.model.presets import load_preset
+
+    r = _results()
+    r.scenario = load_preset("paper-metro", {"output.floor_grid_spacing_m": 3.0}).model_dump(
+        mode="json")
+    p = r.write_hdf5(tmp_path / "r.h5")
+    with h5py.File(p) as f:
+        assert f.attrs["format_version"] == 2
+        assert f["points/position"].attrs["unit"] == "m"
+        assert f["points/position"].shape == (len(r.recorded_points), 3)
+    back = Results.read_hdf5(p)
+    assert back.points == r.recorded_points
+    pr = next(q for q in back.points if q["name"] == "PR")
+    assert (pr["body"], pr["x"], pr["y"], pr["z"]) == ("carbody", 6.3, 0.0, 3.8)
+    # a file without a vehicle (no scenario) has an empty list, not an error
+    assert Results.read_hdf5(_results().write_hdf5(tmp_path / "s.h5")).points == []
+
+
+def test_recorded_points_are_where_the_solver_puts_its_markers():
+    """The rule that results files store is the one build_vehicle follows: every recorded
+    point, in channel order, at its marker (CG position + marker offset)."""
+    from flexride.model.presets import load_preset
+    from flexride.vehicle.topology import build_vehicle, recorded_points
+
+    sc = load_preset("paper-metro", {"output.floor_grid_spacing_m": 1.5, "output.points": [
+        {"name": "SEAT", "x": -4.2, "y": 0.8, "z": 1.6}]})
+    veh = build_vehicle(sc.vehicle, sc.output)
+    pts = recorded_points(sc.vehicle, sc.output)
+    assert [(p.body, p.name) for p in pts] == [(veh.bodies[b].name, n) for n, b, _ in veh.points]
+    for p, (_, b, marker) in zip(pts, veh.points, strict=True):
+        body = veh.bodies[b]
+        off = body.marker_positions[marker]
+        assert (p.x, p.y, p.z) == pytest.approx(
+            (body.x_ref + off[0], off[1], body.cg_height + off[2]), abs=1e-12)

@@ -9,8 +9,17 @@ The HDF5 layout is one file per run::
     /time                 float64 [n]   s
     /distance             float64 [n]   m
     /channels/<name>      float64 [n]   attribute ``unit``
+    /points/body          str [p]       body of each recorded point (``carbody``, ``frame1``...)
+    /points/name          str [p]       point name (``PR``, ``F3_2``, ``centre``...)
+    /points/position      float64 [p, 3] m: x, y, z (attribute ``frame``, see below)
     root attributes: ``format`` = "flexride-results", ``format_version``,
                      ``flexride_version``, ``scenario_json``, ``meta_json``
+
+``/points`` (format version 2) gives the position of every point whose accelerations are
+recorded (channels ``<body>.<name>.acc.<y|z>``) in the nominal vehicle geometry: x from the
+car-body centre, forward positive; y left positive; z above top of rail (m). It is derived from
+the scenario with the rule the solver uses (:func:`flexride.vehicle.topology.recorded_points`),
+at write time; for files without it (version 1) :func:`read_points` derives it the same way.
 
 Files are written atomically: to a temporary name in the target directory, then renamed.
 """
@@ -30,7 +39,10 @@ import numpy as np
 from flexride.errors import ResultsFileError
 
 FORMAT_NAME = "flexride-results"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+#: Description of the coordinates of ``/points/position``.
+POINT_FRAME = ("nominal vehicle geometry: x from the car-body centre, forward positive; "
+               "y left positive; z above top of rail (m)")
 
 
 @dataclass
@@ -51,6 +63,9 @@ class Results:
         The full scenario that produced the run (JSON-compatible).
     meta : dict
         Run facts: ``speed_mps``, ``dt`` (s), ``output_rate`` (Hz), wall times, etc.
+    points : list of dict, optional
+        Recorded points ``{"body", "name", "x", "y", "z"}`` (m); derived from the scenario when
+        omitted (:attr:`recorded_points`).
     """
 
     time: np.ndarray
@@ -59,6 +74,16 @@ class Results:
     units: dict[str, str]
     scenario: dict[str, Any] = field(default_factory=dict)
     meta: dict[str, Any] = field(default_factory=dict)
+    points: list[dict[str, Any]] | None = None
+
+    @property
+    def recorded_points(self) -> list[dict[str, Any]]:
+        """Recorded points ``{"body", "name", "x", "y", "z"}`` (m, see the module docstring):
+        :attr:`points` when given, else derived from :attr:`scenario` (empty when the scenario
+        does not describe a vehicle)."""
+        if self.points is not None:
+            return self.points
+        return points_from_scenario(self.scenario)
 
     @property
     def sample_rate(self) -> float:
@@ -124,6 +149,7 @@ class Results:
                         name, data=data, compression="gzip", compression_opts=4, shuffle=True
                     )
                     ds.attrs["unit"] = self.units.get(name, "")
+                _write_points(f, self.recorded_points)
             os.replace(tmp_name, dest)
         except BaseException:
             Path(tmp_name).unlink(missing_ok=True)
@@ -158,8 +184,75 @@ class Results:
                     units=units,
                     scenario=json.loads(f.attrs["scenario_json"]),
                     meta=json.loads(f.attrs["meta_json"]),
+                    points=read_points(f),
                 )
         except ResultsFileError:
             raise
         except (OSError, KeyError, ValueError) as exc:
             raise ResultsFileError(f"cannot read results file {p}: {exc}") from exc
+
+
+def points_from_scenario(scenario: dict[str, Any]) -> list[dict[str, Any]]:
+    """Recorded points of a scenario (JSON form) by the solver's rule.
+
+    Parameters
+    ----------
+    scenario : dict
+        A full scenario as stored in a results file (``scenario_json``).
+
+    Returns
+    -------
+    list of dict
+        ``{"body", "name", "x", "y", "z"}`` in channel order, positions in m (module
+        docstring); empty when ``scenario`` is not a valid scenario.
+    """
+    from pydantic import ValidationError
+
+    from flexride.model.scenario import Scenario
+    from flexride.vehicle.topology import recorded_points
+
+    try:
+        sc = Scenario.model_validate(scenario)
+        pts = recorded_points(sc.vehicle, sc.output)
+    except (ValidationError, ValueError, TypeError):
+        return []
+    return [{"body": p.body, "name": p.name, "x": p.x, "y": p.y, "z": p.z} for p in pts]
+
+
+def _write_points(f: h5py.File, points: list[dict[str, Any]]) -> None:
+    grp = f.create_group("points")
+    text = h5py.string_dtype("utf-8")
+    grp.create_dataset("body", data=[p["body"] for p in points], dtype=text)
+    grp.create_dataset("name", data=[p["name"] for p in points], dtype=text)
+    pos = np.array([[p["x"], p["y"], p["z"]] for p in points], dtype=np.float64).reshape(-1, 3)
+    ds = grp.create_dataset("position", data=pos)
+    ds.attrs["unit"] = "m"
+    ds.attrs["frame"] = POINT_FRAME
+
+
+def read_points(f: h5py.File) -> list[dict[str, Any]]:
+    """Recorded points of an open results file: ``/points`` when present (format version 2),
+    else derived from its scenario (:func:`points_from_scenario`).
+
+    Parameters
+    ----------
+    f : h5py.File
+        A results file open for reading.
+
+    Returns
+    -------
+    list of dict
+        ``{"body", "name", "x", "y", "z"}``, positions in m (module docstring).
+    """
+    grp = f.get("points")
+    if grp is None:
+        try:
+            scenario = json.loads(f.attrs.get("scenario_json", "{}"))
+        except (TypeError, ValueError):
+            return []
+        return points_from_scenario(scenario) if isinstance(scenario, dict) else []
+    bodies = grp["body"].asstr()[()]
+    names = grp["name"].asstr()[()]
+    pos = np.asarray(grp["position"][()], dtype=np.float64).reshape(-1, 3)
+    return [{"body": str(b), "name": str(n), "x": float(p[0]), "y": float(p[1]),
+             "z": float(p[2])} for b, n, p in zip(bodies, names, pos, strict=True)]

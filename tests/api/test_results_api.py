@@ -151,3 +151,59 @@ def test_results_of_unfinished_jobs_are_409(sqlite_client):
     for path in ("summary", "channels", "download"):
         res = sqlite_client.get(f"{API}/jobs/{job_id}/{path}")
         assert res.status_code == 409 and "queued" in res.json()["detail"]
+
+
+# -- positions of the recorded points ----------------------------------------------------------
+
+#: The paper's measurement points in the car-body frame (DESIGN §5 with its B-type metro
+#: geometry: bogie centres at ±6.3 m, air springs ±0.95 m laterally, floor 1.10 m and roof
+#: 3.80 m above top of rail) — written out here, not computed with flexride's rule.
+PAPER_POINTS = {"PR": (6.3, 0.0, 3.80), "PFB": (6.3, 0.0, 1.10), "PC": (0.0, 0.0, 1.10),
+                "PRB": (-6.3, 0.0, 1.10), "PLA": (-6.3, 0.95, 1.10), "PRA": (-6.3, -0.95, 1.10)}
+
+
+def _paper_job(client, drop_points: bool = False):
+    """A finished job whose file has the paper-metro scenario with a user point and a 2 m floor
+    grid; with ``drop_points`` the file is made like one written before positions were stored."""
+    from flexride.model.presets import load_preset
+
+    svc = services(client)
+    sc = load_preset("paper-metro", {"output.floor_grid_spacing_m": 2.0,
+                                     "output.points": [{"name": "SEAT", "x": 3.0, "y": -0.7,
+                                                        "z": 1.5}]})
+    res = synthetic_results(duration=2.0)
+    res.scenario = sc.model_dump(mode="json")
+    res.channels["wheelset1.left.force.z"] = np.full(res.time.size, 8.0e4)
+    res.units["wheelset1.left.force.z"] = "N"
+    job_id = insert_finished_job(svc.store, svc.files, res)
+    if drop_points:
+        job = svc.store.get_job(job_id)
+        with h5py.File(svc.files.path(job.result_file), "r+") as f:
+            del f["points"]
+            f.attrs["format_version"] = 1
+    return job_id
+
+
+@pytest.mark.parametrize("old_file", [False, True], ids=["stored", "derived-for-older-file"])
+def test_channels_give_the_positions_of_the_paper_points(sqlite_client, old_file):
+    job_id = _paper_job(sqlite_client, drop_points=old_file)
+    info = sqlite_client.get(f"{API}/jobs/{job_id}/channels").json()
+    where = {(p["body"], p["name"]): (p["x"], p["y"], p["z"]) for p in info["points"]}
+    for name, xyz in PAPER_POINTS.items():
+        assert where[("carbody", name)] == pytest.approx(xyz, abs=1e-12), name
+    assert where[("carbody", "SEAT")] == pytest.approx((3.0, -0.7, 1.5))
+    # the channels of a point carry its position; others (wheel forces) have none
+    chans = {c["name"]: c for c in info["channels"]}
+    assert chans[PR_Z]["position"] == pytest.approx([6.3, 0.0, 3.80])
+    assert chans["carbody.PRB.acc.y"]["position"] == pytest.approx([-6.3, 0.0, 1.10])
+    assert chans["frame1.centre.acc.z"]["position"][:2] == pytest.approx([6.3, 0.0])
+    assert chans["wheelset1.left.force.z"]["position"] is None
+    assert "top of rail" in info["point_frame"]
+    # the floor grid: every 2 m from -9 m to 9 m along the body, at both sides (±1.2 m)
+    floor = np.array(sorted(xyz for (_, n), xyz in where.items() if n.startswith("F")))
+    np.testing.assert_allclose(floor, sorted((-9.0 + 2 * i, y, 1.10) for i in range(10)
+                                             for y in (-1.2, 1.2)), atol=1e-12)
+    assert where[("carbody", "F0_0")] == pytest.approx((-9.0, -1.2, 1.10))
+    # frame and wheelset centres: at the bogie centres and axles (wheelbase 2.2 m)
+    assert where[("frame2", "centre")][0] == pytest.approx(-6.3)
+    assert where[("wheelset1", "centre")][:2] == pytest.approx((6.3 + 1.1, 0.0))

@@ -139,10 +139,23 @@ class ChannelInfo(BaseModel):
     point: str | None = None
     quantity: str | None = None
     direction: str | None = None
+    position: list[float] | None = Field(
+        None, description="x, y, z of the channel's recorded point (m, see point_frame); "
+        "null for channels that are not at a recorded point (wheel forces, body coordinates)")
+
+
+class PointInfo(BaseModel):
+    """A recorded point: its body, name and position (m, see ``point_frame``)."""
+
+    body: str = Field(description="Body the point is on: carbody, frame1, wheelset3...")
+    name: str = Field(description="Point name: PR, PC, F3_2 (floor grid), centre...")
+    x: float = Field(description="Longitudinal position from the car-body centre, forward (m)")
+    y: float = Field(description="Lateral position, left positive (m)")
+    z: float = Field(description="Height above top of rail (m)")
 
 
 class ChannelList(BaseModel):
-    """The channels of a job's results and its sampling."""
+    """The channels of a job's results, its sampling and its recorded points."""
 
     job_id: str
     sample_rate_hz: float
@@ -150,6 +163,9 @@ class ChannelList(BaseModel):
     t_start_s: float
     t_end_s: float
     channels: list[ChannelInfo]
+    points: list[PointInfo] = Field(
+        default_factory=list, description="Recorded points in channel order (m)")
+    point_frame: str = Field(description="Coordinates of the point positions")
 
 
 class SeriesChannel(BaseModel):

@@ -19,6 +19,7 @@ import h5py
 import numpy as np
 
 from flexride.errors import ResultsFileError
+from flexride.results import read_points
 
 _NAME = re.compile(r"^[0-9a-f]{32}\.h5$")
 
@@ -117,7 +118,9 @@ class ResultFiles:
         return name
 
     def describe(self, name: str) -> dict[str, Any]:
-        """Channel names and units, sample count, sample rate and duration of a file."""
+        """Channel names and units, sample count, sample rate, duration and recorded points
+        (``{"body", "name", "x", "y", "z"}`` in m, :func:`flexride.results.read_points`) of a
+        file."""
         p = self.path(name)
         with _open(p) as f:
             chans = {k: str(ds.attrs.get("unit", "")) for k, ds in f["channels"].items()}
@@ -126,9 +129,13 @@ class ResultFiles:
             t = f["time"]
             t0 = float(t[0]) if n else 0.0
             t1 = float(t[-1]) if n else 0.0
+            try:
+                points = read_points(f)
+            except (KeyError, ValueError, OSError) as exc:
+                raise ResultsFileError(f"{p.name}: unreadable /points: {exc}") from None
         fs = _rate(meta, p, t0, t1, n)
         return {"channels": chans, "n_samples": n, "sample_rate_hz": fs, "t_start_s": t0,
-                "t_end_s": t1, "meta": meta}
+                "t_end_s": t1, "meta": meta, "points": points}
 
     def read(self, name: str, channels: list[str], t_start: float | None = None,
              t_end: float | None = None) -> ChannelData:

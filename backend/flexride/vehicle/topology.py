@@ -95,6 +95,76 @@ def paper_point_positions(params: Vehicle, output: Output) -> list[OutputPoint]:
     ]
 
 
+def carbody_output_points(params: Vehicle, output: Output) -> list[OutputPoint]:
+    """Every recorded car-body point, in the order of its channels: the paper's points, the user
+    points of ``output.points`` and the floor grid (``output.floor_grid_spacing_m``).
+
+    Coordinates are car-body coordinates (m): x from the body centre, forward positive; y left
+    positive; z above top of rail.
+
+    Raises
+    ------
+    ValueError
+        If a name is used twice.
+    """
+    pts = paper_point_positions(params, output) + list(output.points)
+    if output.floor_grid_spacing_m:
+        fl = output.floor_height_m
+        pts += [OutputPoint(name=name, x=x, y=y, z=fl)
+                for name, (x, y) in floor_grid(output.floor_grid_spacing_m)]
+    names: set[str] = set()
+    for pt in pts:
+        if pt.name in names:
+            raise ValueError(f"output point {pt.name!r} is defined twice")
+        names.add(pt.name)
+    return pts
+
+
+@dataclass(frozen=True)
+class RecordedPoint:
+    """A point whose accelerations are recorded (channels ``<body>.<name>.acc.<y|z>``).
+
+    ``x``, ``y``, ``z`` (m) are its position in the nominal vehicle geometry: x from the car-body
+    centre, forward positive; y left positive; z above top of rail. For car-body points these
+    are car-body coordinates; a frame's or wheelset's ``centre`` is its centre of gravity.
+    """
+
+    body: str
+    name: str
+    x: float
+    y: float
+    z: float
+
+
+def recorded_points(params: Vehicle, output: Output | None = None) -> list[RecordedPoint]:
+    """The recorded points of the vehicle in channel order (the rule :func:`build_vehicle`
+    follows): the car-body points of :func:`carbody_output_points`, then the centres of
+    ``frame1``, ``frame2`` and ``wheelset1`` … ``wheelset4``.
+
+    Parameters
+    ----------
+    params : Vehicle
+        Vehicle parameters (geometry, CG heights).
+    output : Output, optional
+        Output settings (floor and roof heights, user points, floor grid).
+
+    Returns
+    -------
+    list of RecordedPoint
+    """
+    output = output or Output()
+    pts = [RecordedPoint("carbody", p.name, p.x, p.y, p.z)
+           for p in carbody_output_points(params, output)]
+    g = params.geometry
+    lc, lw = g.bogie_centre_spacing / 2.0, g.wheelbase / 2.0
+    for i, x in enumerate((lc, -lc)):
+        pts.append(RecordedPoint(f"frame{i + 1}", "centre", x, 0.0, params.frame.cg_height))
+    for i, x in enumerate((lc + lw, lc - lw, -lc + lw, -lc - lw)):
+        pts.append(RecordedPoint(f"wheelset{i + 1}", "centre", x, 0.0,
+                                 params.wheelset.cg_height))
+    return pts
+
+
 def build_vehicle(
     params: Vehicle,
     output: Output | None = None,
@@ -264,22 +334,14 @@ def build_vehicle(
                     )
                 )
 
-    # recorded points
+    # recorded points (carbody_output_points / recorded_points give the same list)
     points: list[tuple[str, int, str]] = []
-    user = list(output.points)
-    names = set()
-    for pt in paper_point_positions(params, output) + user:
-        if pt.name in names:
-            raise ValueError(f"output point {pt.name!r} is defined twice")
-        names.add(pt.name)
+    for pt in carbody_output_points(params, output):
         marker = f"point.{pt.name}"
-        carbody_body.add_marker(marker, (pt.x, pt.y, pt.z - carbody_body.cg_height))
+        carbody_body.add_marker(
+            marker, (pt.x - carbody_body.x_ref, pt.y, pt.z - carbody_body.cg_height)
+        )
         points.append((pt.name, ic, marker))
-    if output.floor_grid_spacing_m:
-        for name, (x, y) in floor_grid(output.floor_grid_spacing_m):
-            marker = f"point.{name}"
-            carbody_body.add_marker(marker, (x, y, output.floor_height_m - carbody_body.cg_height))
-            points.append((name, ic, marker))
     for i in (*i_frames, *i_ws):
         b = bodies[i]
         b.add_marker("centre", (0.0, 0.0, 0.0), lock_pitch=b.is_wheelset)

@@ -29,6 +29,7 @@ from flexride.api.errors import NotFound
 from flexride.api.services.decimate import decimate_indices, minmax_indices
 from flexride.api.services.jobs import finished_job
 from flexride.errors import AnalysisError
+from flexride.results import POINT_FRAME
 from flexride.store import ChannelData
 
 MAX_SPECTROGRAM_CELLS = 250_000
@@ -75,18 +76,23 @@ def _prepare(x: np.ndarray, fs: float, dynamic: bool) -> tuple[np.ndarray, bool]
 
 
 def channel_list(svc: Services, job_id: str) -> dict[str, Any]:
-    """Channels of a job with units and sampling."""
+    """Channels of a job with units and sampling, and the recorded points with their
+    positions (m, nominal vehicle geometry: x from the car-body centre forward, y left, z above
+    top of rail); each channel of a recorded point carries that point's ``position``."""
     job = finished_job(svc, job_id)
     d = svc.files.describe(job.result_file)
+    where = {(p["body"], p["name"]): [p["x"], p["y"], p["z"]] for p in d["points"]}
     chans = []
     for name, unit in sorted(d["channels"].items()):
         parts = name.split(".")
-        info = {"name": name, "unit": unit}
+        info: dict[str, Any] = {"name": name, "unit": unit}
         if len(parts) == 4:
             info.update(body=parts[0], point=parts[1], quantity=parts[2], direction=parts[3])
+            info["position"] = where.get((parts[0], parts[1]))
         chans.append(info)
     return {"job_id": job_id, "sample_rate_hz": d["sample_rate_hz"], "n_samples": d["n_samples"],
-            "t_start_s": d["t_start_s"], "t_end_s": d["t_end_s"], "channels": chans}
+            "t_start_s": d["t_start_s"], "t_end_s": d["t_end_s"], "channels": chans,
+            "points": d["points"], "point_frame": POINT_FRAME}
 
 
 def summary(svc: Services, job_id: str) -> dict[str, Any]:
