@@ -28,6 +28,10 @@ def _default_data_dir() -> Path:
     return Path(base) / "flexride"
 
 
+def _default_cache_dir() -> Path:
+    return Path.home() / ".cache" / "flexride"
+
+
 def _default_frontend_dir() -> Path | None:
     candidate = _REPO_ROOT / "frontend"
     return candidate if candidate.is_dir() else None
@@ -108,10 +112,15 @@ class Settings(BaseSettings):
         default_factory=_default_frontend_dir,
         description="Static dashboard served at / when the directory exists",
     )
+    cache_dir: Path = Field(
+        default_factory=_default_cache_dir,
+        description="Caches: numba kernels, reduced FE bodies (fem-<version>/) and their "
+        "browser exports served by GET /fe (fe-export-<version>/)",
+    )
     celery_queue: str = Field("flexride", description="Celery queue of the simulation jobs")
     log_level: str = Field("info", description="Log level of the service and the workers")
 
-    @field_validator("data_dir", mode="after")
+    @field_validator("data_dir", "cache_dir", mode="after")
     @classmethod
     def _absolute(cls, value: Path) -> Path:
         return value.expanduser().resolve()

@@ -3,7 +3,8 @@ valid and invalid, against the real app; none may produce a server error, and ev
 must match the documented status codes, content types and schemas.
 
 Jobs are recorded, not run (``runner=none``): generated scenarios are checked at submission
-(the stability check included) but no simulation starts.
+(the stability check included) but no simulation starts. FE exports come from a stand-in build
+(tests/api/test_fe_api.py runs a real one).
 """
 
 from __future__ import annotations
@@ -24,7 +25,12 @@ from schemathesis.specs.openapi.checks import (
 )
 
 from flexride.api import create_app
-from service.svc_testkit import insert_finished_job, make_settings, synthetic_results
+from service.svc_testkit import (
+    insert_finished_job,
+    make_settings,
+    synthetic_results,
+    use_fe_builds,
+)
 
 SENT: list[int] = []
 
@@ -40,6 +46,7 @@ CHECKS = [not_a_server_error, status_code_conformance, content_type_conformance,
 _DATA = Path(tempfile.mkdtemp(prefix="flexride-st-"))
 atexit.register(shutil.rmtree, _DATA, ignore_errors=True)
 APP = create_app(make_settings(_DATA, max_study_jobs=8, max_body_bytes=64 * 1024))
+use_fe_builds(APP, wait_s=2.0)  # FE exports from a quick stand-in, not real builds
 schema = schemathesis.openapi.from_asgi("/api/v1/openapi.json", APP)
 
 

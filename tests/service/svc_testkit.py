@@ -32,8 +32,9 @@ SHORT = {"duration_s": 1.5, "distance_m": None}
 
 
 def make_settings(data_dir: Path, **kw: Any) -> Settings:
-    """Settings for a test: data under ``data_dir``, no runner unless given."""
+    """Settings for a test: data and caches under ``data_dir``, no runner unless given."""
     kw.setdefault("runner", "none")
+    kw.setdefault("cache_dir", data_dir / "cache")
     kw.setdefault("frontend_dir", None)
     return Settings(_env_file=None, data_dir=data_dir, **kw)
 
@@ -187,3 +188,38 @@ def service_env(**values: str) -> dict[str, str]:
 def services(client: Any) -> Any:
     """The service objects of a TestClient's app."""
     return client.app.state.services
+
+
+def fake_fe_export(spec: Any, dest: str) -> dict[str, Any]:
+    """Stand-in for :func:`flexride.fe_export.run_export_job`: writes a one-quad export that
+    follows the real export's layout (and its ``model`` block) at once."""
+    import json
+
+    model = {**spec.parameters(), "key": spec.key, "n_nodes": 4, "n_elastic_modes": 1,
+             "frequencies_hz": [5.0], "from_cache": False, "build_seconds": 0.0}
+    data = {"units": {"length": "m", "frequency": "Hz"},
+            "nodes": [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]],
+            "quads": [[0, 1, 3, 2]], "beams": [], "named_nodes": {},
+            "modes": [{"index": 1, "frequency_hz": 5.0, "classification": "", "scale_m": 0.01,
+                       "displacements": [[0.0, 0.0, 1.0]] * 4}][:spec.max_modes],
+            "model": model}
+    Path(dest).parent.mkdir(parents=True, exist_ok=True)
+    Path(dest).write_text(json.dumps(data), encoding="utf-8")
+    return {"ok": True, "model": model, "seconds": 0.0}
+
+
+def use_fe_builds(client: Any, build: Callable[..., dict[str, Any]] = fake_fe_export,
+                  **kw: Any) -> Any:
+    """Give an app (or a TestClient's app) FE builds that run ``build`` in a thread (not a
+    process); returns the new :class:`flexride.api.services.fe.FEBuilds`."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from flexride.api.services.fe import FEBuilds
+
+    svc = getattr(client, "app", client).state.services
+    svc.fe.stop()
+    kw.setdefault("wait_s", 0.0)
+    svc.fe = FEBuilds(svc.settings.cache_dir,
+                      executor_factory=lambda: ThreadPoolExecutor(max_workers=1), build=build,
+                      **kw)
+    return svc.fe

@@ -9,6 +9,7 @@ from typing import Annotated
 from fastapi import Depends, HTTPException, Request, Security
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
+from flexride.api.services.fe import FEBuilds
 from flexride.jobs.base import JobRunner
 from flexride.jobs.reaper import Reaper
 from flexride.settings import Settings
@@ -26,6 +27,7 @@ class Services:
     runner: JobRunner
     submitter: Submitter
     reaper: Reaper
+    fe: FEBuilds
 
 
 def get_services(request: Request) -> Services:

@@ -3,7 +3,8 @@
 * :class:`~flexride.errors.StabilityError` → 422 naming ``solver.dt`` with a step that works;
 * other :class:`~flexride.errors.FlexrideError` (invalid scenario, unknown preset, analysis
   input) → 422 with one item per problem (``loc`` = field path, ``msg`` with the allowed range);
-* request validation → 422 in the same shape; :class:`NotFound` → 404; :class:`Conflict` → 409;
+* request validation → 422 in the same shape (``loc`` = ``["query", name]`` etc., ``msg`` with the
+  violated bound as ``(allowed: ≤ 500)``); :class:`NotFound` → 404; :class:`Conflict` → 409;
 * anything else → 500 with a JSON body (and the traceback in the log).
 
 Responses are JSON without NaN (non-finite numbers become null).
@@ -98,6 +99,14 @@ async def _flexride_error(_request: Request, exc: Exception) -> JSONResponse:
     return _error(422, error_items(str(exc), kind), str(exc))
 
 
+def _allowed(ctx: dict[str, Any] | None) -> str:
+    """`` (allowed: ≤ 500)`` from the bounds of a validation error's context (as the scenario
+    messages of :func:`flexride.model.scenario.format_validation_error` say it)."""
+    bounds = [f"{sym} {ctx[key]}" for key, sym in (("gt", ">"), ("ge", "≥"), ("lt", "<"),
+                                                  ("le", "≤")) if ctx and key in ctx]
+    return f" (allowed: {', '.join(bounds)})" if bounds else ""
+
+
 async def _validation_error(_request: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, RequestValidationError)
     items = []
@@ -105,7 +114,7 @@ async def _validation_error(_request: Request, exc: Exception) -> JSONResponse:
         ctx = err.get("ctx")
         items.append({
             "loc": [p if isinstance(p, int) else str(p) for p in err.get("loc", ())],
-            "msg": str(err.get("msg", "")),
+            "msg": str(err.get("msg", "")) + _allowed(ctx),
             "type": str(err.get("type", "validation")),
             "ctx": {k: v if isinstance(v, int | float | str | bool) or v is None else str(v)
                     for k, v in ctx.items()} if ctx else None,

@@ -23,6 +23,7 @@ from flexride.api.errors import ERROR_RESPONSES, SafeJSONResponse, install_error
 from flexride.api.middleware import BodySizeLimit
 from flexride.api.routes import api_router
 from flexride.api.schemas import ErrorResponse
+from flexride.api.services.fe import FEBuilds
 from flexride.jobs.factory import make_runner
 from flexride.jobs.reaper import Reaper
 from flexride.settings import API_PREFIX, Settings, get_settings
@@ -37,19 +38,23 @@ TAGS = [
      "Sperling breakdown, cross-correlation and the HDF5 file of a finished job."},
     {"name": "studies", "description": "Job matrices over speeds, conditions, body models and "
      "parameters, with tables ready to plot."},
+    {"name": "fe", "description": "FE meshes and mode shapes of the flexible car body and "
+     "bogie frames, by model parameters or of a job, built in the background."},
     {"name": "presets", "description": "Named scenarios and JSON schemas."},
     {"name": "service", "description": "Health and version."},
 ]
 
 
 def build_services(settings: Settings) -> Services:
-    """Create the store (schema created or migrated), files, runner, submitter and reaper."""
+    """Create the store (schema created or migrated), files, runner, submitter, reaper and the
+    FE export builds."""
     store = JobStore.from_url(settings.effective_database_url, create=True)
     files = ResultFiles(settings.results_dir)
     runner = make_runner(settings, store)
     submitter = Submitter(store, files, runner, settings)
     return Services(settings=settings, store=store, files=files, runner=runner,
-                    submitter=submitter, reaper=Reaper(store, runner, settings))
+                    submitter=submitter, reaper=Reaper(store, runner, settings),
+                    fe=FEBuilds(settings.cache_dir))
 
 
 def plotly_js_path() -> Path | None:
@@ -101,6 +106,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
         services.runner.start()
         services.reaper.start()
+        services.fe.start()
         log.info("flexride API %s: runner %s, store %s, results in %s", __version__,
                  services.runner.kind, services.store.engine.url.render_as_string(),
                  services.files.root)
@@ -109,6 +115,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         finally:
             services.reaper.stop()
             services.runner.stop()
+            services.fe.stop()
 
     app = FastAPI(
         title="flexride",

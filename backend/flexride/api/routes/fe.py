@@ -1,0 +1,87 @@
+"""Routes of FE meshes and mode shapes: a body model by its parameters, or a job's own."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from fastapi import APIRouter, Path, Query, Response
+
+from flexride.api.deps import ServicesDep
+from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport
+from flexride.api.services import fe as svc_fe
+from flexride.fe_export import DEFAULT_MAX_MODES, ExportSpec
+from flexride.model.bodies import BodyModel
+
+router = APIRouter(tags=["fe"])
+
+Kind = Annotated[Literal["carbody", "frame"], Path(description="carbody or frame")]
+JobId = Annotated[str, Path(min_length=1, max_length=64, description="Job id")]
+MaxModes = Annotated[int, Query(ge=0, le=100, description="Mode shapes exported (the lowest)")]
+Reduction = BodyModel.model_fields["reduction"].annotation
+
+
+def _body_query(name: str) -> Any:
+    """``Query`` with the description and bounds of field ``name`` of the scenario's body
+    model (``bodies.carbody`` / ``bodies.frames``), so both take the same values."""
+    info = BodyModel.model_fields[name]
+    kw: dict[str, Any] = {"description": info.description}
+    for m in info.metadata:
+        for bound in ("gt", "ge", "lt", "le"):
+            if getattr(m, bound, None) is not None:
+                kw[bound] = getattr(m, bound)
+    return Query(**kw)
+
+
+#: The defaults of a scenario's body model.
+_DEFAULT = BodyModel()
+
+
+RESPONSES: dict[int | str, dict[str, Any]] = {
+    200: {"model": FEExport, "description": "The mesh and mode shapes"},
+    202: {"model": FEBuildStatus, "description": "Being built: ask again after Retry-After s",
+          "headers": {"Retry-After": {"description": "Seconds", "schema": {"type": "integer"}}}},
+    422: {"model": ErrorResponse,
+          "description": "Invalid parameter (field path, allowed range), or parameters that "
+          "give no FE model"},
+    503: {"model": ErrorResponse, "description": "The build failed or too many are queued; "
+          "ask again after Retry-After s"},
+}
+
+
+@router.get("/fe/{kind}", response_model=None, responses=RESPONSES,
+            summary="FE mesh and mode shapes of a body model")
+def fe_model(
+    kind: Kind,
+    svc: ServicesDep,
+    element_size_m: Annotated[float, _body_query("element_size_m")] = _DEFAULT.element_size_m,
+    cutoff_hz: Annotated[float, _body_query("cutoff_hz")] = _DEFAULT.cutoff_hz,
+    reduction: Annotated[Reduction, _body_query("reduction")] = _DEFAULT.reduction,  # type: ignore
+    max_modes: MaxModes = DEFAULT_MAX_MODES,
+    preset: Annotated[str, Query(max_length=80, description="Preset whose vehicle (inertia, "
+                                 "suspension geometry) the model is fitted to")] = "paper-metro",
+) -> Response:
+    """The car body's or bogie frame's FE mesh with its lowest mode shapes, as
+    ``flexride fe export`` writes them (plus ``model``: what was built).
+
+    The parameters are those of a scenario's ``bodies.carbody`` / ``bodies.frames`` (same
+    names, units and ranges). 200 when the export exists or the body is in the FE cache; else
+    the build starts in the background (once per parameter set, however often it is asked
+    for) and the answer is 202 with ``Retry-After``: the first build of the 0.2 m car body
+    takes about a minute.
+    """
+    body = BodyModel(model="flexible", reduction=reduction, cutoff_hz=cutoff_hz,
+                     element_size_m=element_size_m)
+    spec = ExportSpec.create(kind, svc_fe.preset_vehicle(preset), body, max_modes)
+    return svc_fe.respond(svc.fe, spec)
+
+
+@router.get("/jobs/{job_id}/fe/{kind}", response_model=None,
+            responses={**RESPONSES, 409: {"model": ErrorResponse,
+                                          "description": "The job models this body as rigid"}},
+            summary="FE mesh and mode shapes of a job's flexible body")
+def job_fe_model(job_id: JobId, kind: Kind, svc: ServicesDep,
+                 max_modes: MaxModes = DEFAULT_MAX_MODES) -> Response:
+    """The FE model of a job's flexible car body (``kind=carbody``) or bogie frames
+    (``kind=frame``): its own vehicle and ``bodies`` settings, in any job state. Answers as
+    ``GET /fe/{kind}`` (200, 202 while building); 409 when the job's body is rigid."""
+    return svc_fe.respond(svc.fe, svc_fe.job_spec(svc, job_id, kind, max_modes))
