@@ -7,7 +7,8 @@ issue) and times
 1. the API requests behind the job view: summary, channel list, the time histories of three
    channels decimated to a full-width plot (2,400 points), a zoomed range, amplitude spectrum,
    PSD, spectrogram, Sperling breakdown and cross-correlation;
-2. with the system Chromium (``/usr/bin/chromium``, never downloaded; skipped when absent):
+2. with the system Chromium (``/usr/bin/chromium`` or ``FLEXRIDE_CHROMIUM``, never downloaded;
+   skipped when absent):
    the first view (jobs list on screen, target < 1.5 s), Plotly (4.6 MB) loaded in the
    background after it, the job view with its summary, the
    time-history plot drawn at 1280 px, a zoom round trip (server decimation of the new range
@@ -22,10 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
-import shutil
-import socket
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -33,23 +31,10 @@ import urllib.request
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+from live_server import CHROMIUM_ARGS, chromium_path, start_server  # noqa: E402
+
 CHANNELS = ["carbody.PC.acc.z", "carbody.PR.acc.z", "carbody.PRB.acc.z"]
-CHROMIUM_ARGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-]
-
-
-def _port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 def _get(url: str, body: dict | None = None) -> tuple[float, int, object]:
@@ -68,37 +53,6 @@ def _q(params: dict) -> str:
     from urllib.parse import urlencode
 
     return urlencode(params, doseq=True)
-
-
-def start_server(data_dir: Path) -> tuple[subprocess.Popen, str]:
-    port = _port()
-    exe = Path(sys.executable).with_name("flexride")
-    cmd = [str(exe)] if exe.is_file() else [sys.executable, "-m", "flexride.cli"]
-    cmd += ["serve", "--host", "127.0.0.1", "--port", str(port), "--data-dir", str(data_dir)]
-    env = {
-        "FLEXRIDE_DATA_DIR": str(data_dir),
-        "FLEXRIDE_FRONTEND_DIR": str(ROOT / "frontend"),
-        "FLEXRIDE_LOG_LEVEL": "warning",
-    }
-    import os
-
-    proc = subprocess.Popen(
-        cmd,
-        env={**os.environ, **env},
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-        cwd=ROOT,
-    )
-    url = f"http://127.0.0.1:{port}"
-    end = time.monotonic() + 90
-    while time.monotonic() < end:
-        try:
-            _get(f"{url}/api/v1/health")
-            return proc, url
-        except OSError:
-            time.sleep(0.25)
-    proc.kill()
-    raise SystemExit("flexride serve did not start")
 
 
 def run_job(url: str, duration: float) -> str:
@@ -174,10 +128,7 @@ def bench_api(url: str, job: str, duration: float, repeat: int) -> None:
 
 
 def bench_browser(url: str, job: str, repeat: int) -> None:
-    chromium = next(
-        (p for p in ("/usr/bin/chromium", "/usr/bin/chromium-browser") if Path(p).is_file()),
-        shutil.which("chromium"),
-    )
+    chromium = chromium_path()
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
@@ -240,15 +191,14 @@ def main() -> None:
     ap.add_argument("--no-browser", action="store_true")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="flexride-bench-") as tmp:
-        proc, url = start_server(Path(tmp))
+        server = start_server(Path(tmp))
         try:
-            job = run_job(url, args.duration)
-            bench_api(url, job, args.duration, args.repeat)
+            job = run_job(server.url, args.duration)
+            bench_api(server.url, job, args.duration, args.repeat)
             if not args.no_browser:
-                bench_browser(url, job, max(1, min(args.repeat, 3)))
+                bench_browser(server.url, job, max(1, min(args.repeat, 3)))
         finally:
-            proc.terminate()
-            proc.wait(timeout=15)
+            server.stop()
 
 
 if __name__ == "__main__":

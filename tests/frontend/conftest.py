@@ -14,12 +14,8 @@ from __future__ import annotations
 import json
 import os
 import re
-import shutil
-import socket
-import subprocess
 import sys
 import time
-import urllib.error
 import urllib.request
 from collections.abc import Iterator
 from pathlib import Path
@@ -27,18 +23,11 @@ from typing import Any
 
 import pytest
 
-ARTIFACTS = Path(__file__).parent / "artifacts"
 ROOT = Path(__file__).resolve().parents[2]
-CHROMIUM_ARGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-]
+sys.path.insert(0, str(ROOT / "tools"))
+from live_server import CHROMIUM_ARGS, LiveServer, chromium_path, start_server  # noqa: E402
+
+ARTIFACTS = Path(__file__).parent / "artifacts"
 VIEWPORT = {"width": 1280, "height": 800}
 
 
@@ -52,37 +41,15 @@ def _unavailable(why: str) -> None:
     pytest.skip(why)
 
 
-def chromium_path() -> str | None:
-    """The system Chromium (never a downloaded one)."""
-    env = os.environ.get("FLEXRIDE_CHROMIUM")
-    if env:
-        return env if Path(env).is_file() else None
-    for name in ("/usr/bin/chromium", "/usr/bin/chromium-browser"):
-        if Path(name).is_file():
-            return name
-    found = shutil.which("chromium") or shutil.which("chromium-browser")
-    return found
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-def _get_json(url: str, timeout: float = 5.0) -> Any:
-    with urllib.request.urlopen(url, timeout=timeout) as r:
-        return json.loads(r.read().decode())
-
-
 class Server:
     """A running ``flexride serve`` and helpers to talk to its API directly."""
 
-    def __init__(self, url: str, proc: subprocess.Popen, data_dir: Path, log: Path) -> None:
-        self.url = url
-        self.proc = proc
-        self.data_dir = data_dir
-        self.log = log
+    def __init__(self, live: LiveServer, cache_dir: Path) -> None:
+        self.url = live.url
+        self.proc = live.proc
+        self.data_dir = live.data_dir
+        self.log = live.log
+        self.cache_dir = cache_dir
 
     def api(self, path: str, body: dict | None = None, method: str | None = None) -> Any:
         data = json.dumps(body).encode() if body is not None else None
@@ -108,51 +75,15 @@ class Server:
 
 @pytest.fixture(scope="session")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    """``flexride serve`` on a free port with a temporary data directory."""
+    """``flexride serve`` on a free port with a temporary data directory and a temporary FE
+    cache (FE models are built by the session that asks for them)."""
     data_dir = tmp_path_factory.mktemp("flexride-data")
-    port = _free_port()
-    exe = Path(sys.executable).with_name("flexride")
-    cmd = [str(exe)] if exe.is_file() else [sys.executable, "-m", "flexride.cli"]
-    cmd += ["serve", "--host", "127.0.0.1", "--port", str(port), "--data-dir", str(data_dir)]
-    env = {
-        **os.environ,
-        "FLEXRIDE_DATA_DIR": str(data_dir),
-        "FLEXRIDE_WORKERS": "2",
-        "FLEXRIDE_FRONTEND_DIR": str(ROOT / "frontend"),
-        "FLEXRIDE_LOG_LEVEL": "warning",
-    }
-    env.pop("FLEXRIDE_API_TOKEN", None)
-    env.pop("FLEXRIDE_BROKER_URL", None)
-    log = data_dir / "serve.log"
-    with open(log, "wb") as fh:
-        proc = subprocess.Popen(cmd, stdout=fh, stderr=subprocess.STDOUT, env=env, cwd=ROOT)
-    url = f"http://127.0.0.1:{port}"
+    cache_dir = tmp_path_factory.mktemp("flexride-cache")
+    live = start_server(data_dir, workers=2, cache_dir=cache_dir, log=data_dir / "serve.log")
     try:
-        end = time.monotonic() + 90
-        while True:
-            if proc.poll() is not None:
-                raise RuntimeError(
-                    f"flexride serve exited ({proc.returncode}):\n{log.read_text()[-3000:]}"
-                )
-            try:
-                h = _get_json(f"{url}/api/v1/health", timeout=2)
-                if h.get("status") == "ok":
-                    break
-            except (urllib.error.URLError, ConnectionError, TimeoutError, json.JSONDecodeError):
-                pass
-            if time.monotonic() > end:
-                raise RuntimeError(
-                    f"flexride serve did not become healthy:\n{log.read_text()[-3000:]}"
-                )
-            time.sleep(0.25)
-        yield Server(url, proc, data_dir, log)
+        yield Server(live, cache_dir)
     finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait(timeout=5)
+        live.stop()
 
 
 @pytest.fixture(scope="session")

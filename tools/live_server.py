@@ -1,0 +1,158 @@
+"""A real ``flexride serve`` on a free port, and the system's headless Chromium: what the
+dashboard's browser tests (``tests/frontend/conftest.py``) and its benchmark
+(``benchmarks/bench_dashboard.py``) share.
+
+The browser is the Debian package ``chromium`` (``/usr/bin/chromium``), never a downloaded one;
+``FLEXRIDE_CHROMIUM`` selects another binary. Both importers put this directory on ``sys.path``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.error
+import urllib.request
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+#: Flags of the headless system Chromium (no sandbox in containers, nothing fetched at start).
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+
+
+def chromium_path() -> str | None:
+    """The system Chromium (``FLEXRIDE_CHROMIUM`` if set), or None."""
+    env = os.environ.get("FLEXRIDE_CHROMIUM")
+    if env:
+        return env if Path(env).is_file() else None
+    for name in ("/usr/bin/chromium", "/usr/bin/chromium-browser"):
+        if Path(name).is_file():
+            return name
+    return shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def free_port() -> int:
+    """A free TCP port on 127.0.0.1."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def get_json(url: str, timeout: float = 5.0) -> Any:
+    """GET ``url`` and parse its JSON body."""
+    with urllib.request.urlopen(url, timeout=timeout) as r:
+        return json.loads(r.read().decode())
+
+
+@dataclass
+class LiveServer:
+    """A running ``flexride serve``.
+
+    Attributes
+    ----------
+    url : str
+        Base URL (``http://127.0.0.1:<port>``).
+    proc : subprocess.Popen
+        The server process.
+    data_dir : pathlib.Path
+        Its data directory (database and results).
+    log : pathlib.Path or None
+        File with its output, if kept.
+    """
+
+    url: str
+    proc: subprocess.Popen
+    data_dir: Path
+    log: Path | None = None
+
+    def stop(self, timeout: float = 15.0) -> None:
+        """Terminate the server (kill it if it does not stop within ``timeout`` s)."""
+        self.proc.terminate()
+        try:
+            self.proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait(timeout=5)
+
+
+def _tail(log: Path | None) -> str:
+    return log.read_text(errors="replace")[-3000:] if log is not None and log.is_file() else ""
+
+
+def start_server(data_dir: Path, *, workers: int | None = None, cache_dir: Path | None = None,
+                 log: Path | None = None, timeout: float = 90.0) -> LiveServer:
+    """Start ``flexride serve`` (embedded runner, dashboard from ``frontend/``) and wait until
+    its health is ``ok``.
+
+    Parameters
+    ----------
+    data_dir : pathlib.Path
+        Data directory of the service (database, results).
+    workers : int, optional
+        Embedded worker processes (default: the service's, one per core).
+    cache_dir : pathlib.Path, optional
+        ``FLEXRIDE_CACHE_DIR`` of the service (FE models and their exports); the numba kernel
+        cache stays where it is, so the kernels are not compiled again.
+    log : pathlib.Path, optional
+        File for the server's output (discarded otherwise).
+    timeout : float
+        Seconds to wait for the server to become healthy.
+
+    Returns
+    -------
+    LiveServer
+    """
+    import flexride  # noqa: F401  (sets NUMBA_CACHE_DIR in this process's environment)
+
+    port = free_port()
+    exe = Path(sys.executable).with_name("flexride")
+    cmd = [str(exe)] if exe.is_file() else [sys.executable, "-m", "flexride.cli"]
+    cmd += ["serve", "--host", "127.0.0.1", "--port", str(port), "--data-dir", str(data_dir)]
+    env = {
+        **os.environ,
+        "FLEXRIDE_DATA_DIR": str(data_dir),
+        "FLEXRIDE_FRONTEND_DIR": str(ROOT / "frontend"),
+        "FLEXRIDE_LOG_LEVEL": "warning",
+    }
+    if workers is not None:
+        env["FLEXRIDE_WORKERS"] = str(workers)
+    if cache_dir is not None:
+        env["FLEXRIDE_CACHE_DIR"] = str(cache_dir)
+    env.pop("FLEXRIDE_API_TOKEN", None)
+    env.pop("FLEXRIDE_BROKER_URL", None)
+    out = open(log, "wb") if log is not None else subprocess.DEVNULL
+    try:
+        proc = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, env=env, cwd=ROOT)
+    finally:
+        if log is not None:
+            out.close()  # type: ignore[union-attr]
+    url = f"http://127.0.0.1:{port}"
+    server = LiveServer(url, proc, data_dir, log)
+    end = time.monotonic() + timeout
+    while True:
+        if proc.poll() is not None:
+            raise RuntimeError(f"flexride serve exited ({proc.returncode}):\n{_tail(log)}")
+        try:
+            if get_json(f"{url}/api/v1/health", timeout=2).get("status") == "ok":
+                return server
+        except (urllib.error.URLError, ConnectionError, TimeoutError, json.JSONDecodeError):
+            pass
+        if time.monotonic() > end:
+            server.stop()
+            raise RuntimeError(f"flexride serve did not become healthy:\n{_tail(log)}")
+        time.sleep(0.25)
