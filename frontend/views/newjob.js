@@ -147,7 +147,7 @@ export default async function render(main, ctx) {
     return form.value;
   }
 
-  function showServerError(err) {
+  function showServerError(err, title) {
     const items = err.items || [];
     if (err.status === 422 && items.length) {
       t.select("form", true);
@@ -162,45 +162,22 @@ export default async function render(main, ctx) {
         } }, `Use solver.dt = ${dtSuggested} s`));
       }
       setChildren(msg, notice("error", "The server rejected the scenario", h("p", {}, `${items.length} problem${items.length > 1 ? "s" : ""}; ${unmatched.length ? "see the list above the form" : "each is shown at its field"}.`), ...extra));
-    } else setChildren(msg, errorBox(err, "The job could not be submitted"));
+    } else setChildren(msg, errorBox(err, title));
   }
 
-  checkBtn.addEventListener("click", async () => {
+  /**
+   * Check and Submit alike: read the scenario (from the text when it was edited), stop at the
+   * problems the browser finds (marked at their fields), then run `send(scenario)` with `button`
+   * disabled; the server's 422 items are shown at the fields they name, other errors under
+   * `failTitle`.
+   */
+  async function withScenario(button, { pending, failTitle }, send) {
     setChildren(msg);
     let sc;
     try {
       sc = await currentScenario();
     } catch {
-      return;
-    }
-    const problems = form.validateAll(true);
-    if (problems.length) {
-      setChildren(msg, notice("error", `${problems.length} problem${problems.length > 1 ? "s" : ""} found`, "Each is marked at its field."));
-      form.focusField(problems[0].path);
-      return;
-    }
-    checkBtn.disabled = true;
-    try {
-      const res = await api.validateScenario({ scenario: sc });
-      const pf = res?.preflight;
-      setChildren(msg, notice("info", "The server accepts this scenario", pf?.stability ? `Stable time step up to ${pf.stability.dt_max?.toExponential(2)} s; ${pf.n_dof} degrees of freedom; output at ${pf.output_rate_hz} Hz.` : null));
-    } catch (err) {
-      if (isMissingEndpoint(err)) {
-        setChildren(msg, notice("info", "No problems found", "Checked against the scenario schema in the browser; the server checks again (with the time-step stability) when you submit."));
-      } else showServerError(err);
-    } finally {
-      checkBtn.disabled = false;
-    }
-  });
-
-  const submitForm = h("form", { class: "stack", novalidate: true, onsubmit: async (e) => {
-    e.preventDefault();
-    setChildren(msg);
-    let sc;
-    try {
-      sc = await currentScenario();
-    } catch {
-      return;
+      return; // the editor shows why
     }
     const problems = form.validateAll(true);
     if (problems.length) {
@@ -209,17 +186,35 @@ export default async function render(main, ctx) {
       form.focusField(problems[0].path);
       return;
     }
-    submitBtn.disabled = true;
-    setChildren(msg, loading("Submitting…"));
+    button.disabled = true;
+    if (pending) setChildren(msg, loading(pending));
     try {
+      await send(sc);
+    } catch (err) {
+      showServerError(err, failTitle);
+    } finally {
+      button.disabled = false;
+    }
+  }
+
+  checkBtn.addEventListener("click", () => withScenario(checkBtn, { failTitle: "The scenario could not be checked" }, async (sc) => {
+    try {
+      const res = await api.validateScenario({ scenario: sc });
+      const pf = res?.preflight;
+      setChildren(msg, notice("info", "The server accepts this scenario", pf?.stability ? `Stable time step up to ${pf.stability.dt_max?.toExponential(2)} s; ${pf.n_dof} degrees of freedom; output at ${pf.output_rate_hz} Hz.` : null));
+    } catch (err) {
+      if (!isMissingEndpoint(err)) throw err;
+      setChildren(msg, notice("info", "No problems found", "Checked against the scenario schema in the browser; the server checks again (with the time-step stability) when you submit."));
+    }
+  }));
+
+  const submitForm = h("form", { class: "stack", novalidate: true, onsubmit: (e) => {
+    e.preventDefault();
+    withScenario(submitBtn, { pending: "Submitting…", failTitle: "The job could not be submitted" }, async (sc) => {
       const job = await api.submitJob({ scenario: sc, reuse: reuse.checked });
       setChildren(msg, notice("info", job.reused ? "Results reused" : "Job submitted", `Job ${job.id} – opening it…`));
       go(`/jobs/${job.id}`);
-    } catch (err) {
-      showServerError(err);
-    } finally {
-      submitBtn.disabled = false;
-    }
+    });
   } },
   h("label", { class: "check" }, reuse, "Reuse stored results of an identical scenario"),
   h("div", { class: "actions" }, submitBtn, checkBtn), msg);
