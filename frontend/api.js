@@ -58,7 +58,9 @@ function authHeaders() {
 /**
  * Fetch JSON from the API.
  * @param {string} path path below /api/v1 (or absolute when it starts with /api)
- * @param {{method?: string, body?: any, params?: object, signal?: AbortSignal, timeout?: number}} opts
+ * @param {{method?: string, body?: any, params?: object, signal?: AbortSignal, timeout?: number,
+ *   withStatus?: boolean}} opts with `withStatus`, a success resolves to
+ *   {status, body, retryAfter} (for endpoints that answer 202 while they work)
  */
 export async function request(path, opts = {}) {
   const url = (path.startsWith("/api") ? path : API + path) + qs(opts.params);
@@ -107,6 +109,7 @@ export async function request(path, opts = {}) {
     if (res.status === 401) msg = "This service needs an API token for changes (set it under ⚙ Token).";
     throw new ApiError(msg, res.status, items, body);
   }
+  if (opts.withStatus) return { status: res.status, body, retryAfter: Number(res.headers.get("Retry-After")) || null };
   return body;
 }
 
@@ -143,19 +146,20 @@ export const api = {
   cancelStudy: (id) => request(`/studies/${encodeURIComponent(id)}/cancel`, { method: "POST" }),
   deleteStudy: (id) => request(`/studies/${encodeURIComponent(id)}`, { method: "DELETE" }),
 
-  // Not (yet) in the API: validation without creating a job, and the FE mesh with its modes.
-  // The views look them up in the OpenAPI document first (no 404 noise) and fall back when
-  // they are missing (see docs/dashboard.md).
+  // FE mesh and mode shapes: {status: 200, body: export} or {status: 202, body: build state,
+  // retryAfter} while the server builds the model (see views/flexbody.js).
+  feModel: (kind, params, o) =>
+    request(`/fe/${encodeURIComponent(kind)}`, { params, withStatus: true, timeout: 30000, ...o }),
+  jobFeModel: (id, kind, params, o) =>
+    request(`/jobs/${encodeURIComponent(id)}/fe/${encodeURIComponent(kind)}`, { params, withStatus: true, timeout: 30000, ...o }),
+
+  // Validation without creating a job: looked up in the OpenAPI document first (no 404 noise
+  // from an older service), with a fallback in the view when it is missing.
   openapi: () => cached("openapi", () => request("/openapi.json")),
   validateScenario: async (body) => {
     const path = await findEndpoint("post", [/^\/api\/v1\/(jobs|scenarios?)\/(validate|check)$/]);
     if (!path) throw new ApiError("Not Found", 404);
     return request(path, { method: "POST", body, timeout: 30000 });
-  },
-  feMesh: async (kind, params) => {
-    const path = await findEndpoint("get", [/^\/api\/v1\/fe\/\{[^}]+\}$/, /^\/api\/v1\/(fem|bodies)\/\{[^}]+\}(\/mesh)?$/]);
-    if (!path) throw new ApiError("Not Found", 404);
-    return request(path.replace(/\{[^}]+\}/, encodeURIComponent(kind)), { params, timeout: 180000 });
   },
 };
 

@@ -1,30 +1,42 @@
 // Flexible body: the car-body (or frame) FE mesh in 3D with its mode shapes (scaled or animated,
 // frequency list), and a comfort map over the floor of a run that recorded the floor grid.
 //
-// Mesh source: GET /api/v1/fe/{kind} when the service has it, else a JSON file written by
-// `flexride fe export carbody --out carbody.json`. Both shapes are read:
+// Mesh source: GET /api/v1/fe/{kind} with the model parameters of a scenario's `bodies` settings
+// (element_size_m, cutoff_hz, reduction), or, when the chosen job models that body as flexible,
+// GET /api/v1/jobs/{id}/fe/{kind} (the job's own body). Both answer 202 while the server builds
+// the model (first time only); the view polls until 200. A JSON file written by
+// `flexride fe export carbody --out carbody.json` can be loaded instead. Both shapes are read:
 //   export_mesh: {nodes, quads, beams, modes: [{index, frequency_hz, classification, scale_m, displacements}]}
 //   plain:       {nodes: [[x,y,z]], elements: [[i,j,k,l]], frequencies: [f], modes: [[[dx,dy,dz]]]}
+// The comfort map places the floor-grid points at the positions GET /jobs/{id}/channels gives.
 
-import { api, cached, isMissingEndpoint } from "../api.js";
+import { api, cached } from "../api.js";
 import { h, setChildren, notice, fmt, fixed, prettyUnit } from "../components/dom.js";
 import { plotCard, baseLayout, loadPlotly } from "../components/plot.js";
 import { simpleSelect } from "../components/channels.js";
 import { replaceQuery } from "../components/nav.js";
 import { sperlingOf, awOf } from "./job.js";
 
-// Floor grid of flexride.vehicle.topology.floor_grid (names F<i>_<j>).
-const FLOOR_HALF_LENGTH = 9.0;
-const FLOOR_HALF_WIDTH = 1.2;
+const KIND_LABEL = { carbody: "car body", frame: "bogie frame" };
+const BODY_FIELD = { carbody: "carbody", frame: "frames" }; // scenario.bodies.<field>
+const MODEL_PARAMS = ["element_size_m", "cutoff_hz", "reduction"];
+const MAX_MODES = 12;
+const PAPER_FLOOR_POINTS = ["PFB", "PC", "PRB", "PLA", "PRA"];
 
-export function floorGrid(spacing) {
-  const lin = (a, b, n) => (n === 1 ? [a] : Array.from({ length: n }, (_, i) => a + ((b - a) * i) / (n - 1)));
-  const nx = Math.floor((2 * FLOOR_HALF_LENGTH) / spacing + 1e-9) + 1;
-  const ny = Math.floor((2 * FLOOR_HALF_WIDTH) / spacing + 1e-9) + 1;
-  const xs = lin(-FLOOR_HALF_LENGTH, FLOOR_HALF_LENGTH, nx);
-  const ys = ny > 1 ? lin(-FLOOR_HALF_WIDTH, FLOOR_HALF_WIDTH, ny) : [0];
-  return { xs, ys, name: (i, j) => `F${i}_${j}` };
+/** The floor-grid points F<i>_<j> of a channel list's `points` as a grid: sorted xs and ys and
+ * the point name at (x, y). */
+export function floorGridOf(points) {
+  const floor = (points || []).filter((p) => p.body === "carbody" && /^F\d+_\d+$/.test(p.name));
+  const xs = [...new Set(floor.map((p) => p.x))].sort((a, b) => a - b);
+  const ys = [...new Set(floor.map((p) => p.y))].sort((a, b) => a - b);
+  const at = new Map(floor.map((p) => [`${p.x},${p.y}`, p.name]));
+  return { xs, ys, n: floor.length, z: floor[0]?.z, name: (x, y) => at.get(`${x},${y}`) };
 }
+
+const sleep = (ms, signal) => new Promise((resolve) => {
+  const t = setTimeout(resolve, ms);
+  signal?.addEventListener("abort", () => { clearTimeout(t); resolve(); }, { once: true });
+});
 
 /** Normalise either mesh shape to {nodes, quads, tris, beams, modes: [{frequency, label, disp}]}. */
 export function normaliseMesh(m) {
@@ -54,8 +66,11 @@ export function normaliseMesh(m) {
 export default async function render(main, ctx) {
   loadPlotly().catch(() => {}); // in parallel with the data
   ctx.title("Flexible body");
-  const state = { kind: ctx.query.kind || "carbody", mode: 0, scale: 0, animate: false, mesh: null, wire: true };
+  const state = { kind: ctx.query.kind === "frame" ? "frame" : "carbody", mode: 0, scale: 0, animate: false, mesh: null, wire: true };
+  // model parameters from the address (as the scenario's bodies settings); the server's defaults otherwise
+  const params = Object.fromEntries(MODEL_PARAMS.filter((k) => ctx.query[k]).map((k) => [k, ctx.query[k]]));
   let animLoop = null;
+  let loadSeq = 0; // a newer load supersedes the polling of an older one
   const cleanups = [];
 
   // -- mesh and modes ----------------------------------------------------------------------------
@@ -68,7 +83,52 @@ export default async function render(main, ctx) {
   const animBox = h("input", { id: "mode-animate", type: "checkbox" });
   const wireBox = h("input", { id: "mode-wire", type: "checkbox", checked: true });
   const fileIn = h("input", { id: "mesh-file", type: "file", accept: ".json,application/json", class: "sr-only" });
-  const kindSel = simpleSelect("mesh-kind", "Body", [["carbody", "car body"], ["frame", "bogie frame"]], state.kind, (v) => { state.kind = v; replaceQuery({ kind: v, job: jobSel?.value || "" }); loadFromService(); });
+  const kindSel = simpleSelect("mesh-kind", "Body", [["carbody", "car body"], ["frame", "bogie frame"]], state.kind, (v) => { state.kind = v; saveQuery(); loadFromService(); });
+  function saveQuery() {
+    replaceQuery({ kind: state.kind, job: jobSel?.value || "", measure, ...params });
+  }
+
+  // model parameters (the scenario's bodies settings: same names, units and ranges)
+  const sizeIn = h("input", { id: "fe-element-size", type: "number", step: "0.05", inputmode: "decimal" });
+  const cutoffIn = h("input", { id: "fe-cutoff", type: "number", step: "1", inputmode: "decimal" });
+  const reductionSel = h("select", { id: "fe-reduction" }, ["modal", "guyan", "craig-bampton"].map((v) => h("option", { value: v }, v)));
+  const applyBtn = h("button", { type: "submit", class: "btn btn-small", id: "fe-apply" }, "Build / load");
+  const modelInfo = h("p", { class: "small muted", id: "fe-model-info", "aria-live": "polite" });
+  const modelForm = h("form", { class: "stack", id: "fe-model-form", onsubmit: (e) => {
+    e.preventDefault();
+    params.element_size_m = sizeIn.value;
+    params.cutoff_hz = cutoffIn.value;
+    params.reduction = reductionSel.value;
+    saveQuery();
+    loadFromService();
+  } },
+  h("label", { for: "fe-element-size" }, "Element size (m)", sizeIn),
+  h("label", { for: "fe-cutoff" }, "Cut-off frequency (Hz)", cutoffIn),
+  h("label", { for: "fe-reduction" }, "Reduction", reductionSel),
+  h("div", { class: "actions" }, applyBtn), modelInfo);
+  cached("schema", api.scenarioSchema).then((schema) => {
+    const props = schema?.$defs?.BodyModel?.properties || {};
+    for (const [input, name] of [[sizeIn, "element_size_m"], [cutoffIn, "cutoff_hz"]]) {
+      const p = props[name] || {};
+      if (p.minimum !== undefined || p.exclusiveMinimum !== undefined) input.min = String(p.minimum ?? p.exclusiveMinimum);
+      if (p.maximum !== undefined) input.max = String(p.maximum);
+      if (!input.value && p.default !== undefined) input.value = String(p.default);
+    }
+    if (Array.isArray(props.reduction?.enum)) {
+      const keep = reductionSel.value;
+      setChildren(reductionSel, props.reduction.enum.map((v) => h("option", { value: v }, v)));
+      reductionSel.value = params.reduction || (state.mesh ? keep : props.reduction.default || keep);
+    }
+  }).catch(() => { /* the server checks the values */ });
+  function showParams(m, fromJob) {
+    sizeIn.value = String(m.element_size_m);
+    cutoffIn.value = String(m.cutoff_hz);
+    reductionSel.value = m.reduction;
+    for (const el of [sizeIn, cutoffIn, reductionSel, applyBtn]) el.disabled = !!fromJob;
+  }
+  if (params.element_size_m) sizeIn.value = params.element_size_m;
+  if (params.cutoff_hz) cutoffIn.value = params.cutoff_hz;
+  if (params.reduction) reductionSel.value = params.reduction;
 
   function amplitude() {
     // slider 0–1 → largest displacement 0–8 % of the body's size
@@ -216,19 +276,62 @@ export default async function render(main, ctx) {
     animate();
   }
 
+  /** The job's settings of this body when the job models it as flexible, else null. */
+  async function flexibleSettingsOf(jobId, kind) {
+    if (!jobId) return null;
+    const sc = await cached(`scenario:${jobId}`, () => api.jobScenario(jobId));
+    const b = sc?.bodies?.[BODY_FIELD[kind]];
+    return b?.model === "flexible" ? b : null;
+  }
+
+  /** Ask until the server has the model (200); null when a newer load or leaving the view ends it. */
+  async function pollModel(fetcher, seq, label) {
+    for (;;) {
+      const r = await fetcher();
+      if (seq !== loadSeq || ctx.signal.aborted) return null;
+      if (r.status !== 202) return r.body;
+      const b = r.body || {};
+      const wait = Math.min(10, Math.max(1, r.retryAfter || b.retry_after_s || 3));
+      const what = b.status === "queued" ? "Waiting for another FE model to finish building" : `Building the FE model of the ${label}`;
+      card.loading(`${what} on the server…`);
+      setChildren(meshMsg, notice("info", "Building the FE model – first time only",
+        h("p", { id: "fe-building" }, `${what} (${fmt(b.elapsed_s ?? 0, 2)} s so far; about a minute for the 0.2 m car body). The model is kept, so this happens once per parameter set. Checking again in ${wait} s.`)));
+      await sleep(wait * 1000, ctx.signal);
+      if (seq !== loadSeq || ctx.signal.aborted) return null;
+    }
+  }
+
   async function loadFromService() {
     stopAnim();
-    card.loading(`Computing the ${state.kind} mesh and modes on the server (can take a while)…`);
+    const seq = ++loadSeq;
+    const kind = state.kind;
+    const jobId = jobSel ? jobSel.value : (ctx.query.job || "");
+    card.loading(`Loading the ${KIND_LABEL[kind]} FE model…`);
+    setChildren(meshMsg);
     try {
-      const m = await cached(`fe:${state.kind}`, () => api.feMesh(state.kind, { n_modes: 12 }));
-      await useMesh(m, `From the service (${state.kind})`);
+      let jobBody = null;
+      try {
+        jobBody = await flexibleSettingsOf(jobId, kind);
+      } catch { /* no such job: the model by its parameters */ }
+      if (seq !== loadSeq) return;
+      const label = jobBody ? `${KIND_LABEL[kind]} of job ${jobId.slice(0, 8)}` : KIND_LABEL[kind];
+      const fetcher = jobBody
+        ? () => api.jobFeModel(jobId, kind, { max_modes: MAX_MODES }, { signal: ctx.signal })
+        : () => api.feModel(kind, { ...params, max_modes: MAX_MODES }, { signal: ctx.signal });
+      const m = await pollModel(fetcher, seq, label);
+      if (m === null) return;
+      const info = m.model || {};
+      showParams(info, !!jobBody);
+      const src = jobBody ? `The flexible ${label}` : `The ${KIND_LABEL[kind]} model`;
+      modelInfo.textContent = `${src}: ${info.reduction} reduction, cut-off ${fmt(info.cutoff_hz)} Hz, element size ${fmt(info.element_size_m)} m; ${info.n_elastic_modes} elastic modes retained.` +
+        (jobId && !jobBody ? ` Job ${jobId.slice(0, 8)} models the ${KIND_LABEL[kind]} as rigid.` : "");
+      await useMesh(m, jobBody ? `Job ${jobId.slice(0, 8)} (flexible ${KIND_LABEL[kind]})` : `From the service (${KIND_LABEL[kind]})`);
     } catch (err) {
-      if (isMissingEndpoint(err)) {
-        card.empty("Load a mesh file to see the body and its mode shapes.");
-        setChildren(meshMsg, notice("info", "The service does not serve FE meshes yet",
-          h("p", {}, "Export one and load it here:"), h("pre", { class: "mono" }, `flexride fe export ${state.kind} --out ${state.kind}.json`)));
-        setChildren(modeList, h("p", { class: "help" }, "No mesh loaded."));
-      } else card.error(err, "The mesh could not be loaded");
+      if (seq !== loadSeq || ctx.signal.aborted) return;
+      card.error(err, "The FE model could not be loaded");
+      setChildren(meshMsg, notice("info", "A mesh file works too",
+        h("p", {}, "Export one and load it with “Load mesh JSON…”:"), h("pre", { class: "mono" }, `flexride fe export ${kind} --out ${kind}.json`)));
+      setChildren(modeList, h("p", { class: "help" }, "No mesh loaded."));
     }
   }
 
@@ -236,6 +339,9 @@ export default async function render(main, ctx) {
     const f = fileIn.files?.[0];
     if (!f) return;
     fileIn.value = "";
+    loadSeq += 1; // a file replaces whatever the service is still building
+    for (const el of [sizeIn, cutoffIn, reductionSel, applyBtn]) el.disabled = false;
+    modelInfo.textContent = `Showing the file ${f.name}; “Build / load” shows the service's model again.`;
     try {
       await useMesh(JSON.parse(await f.text()), f.name);
     } catch (err) {
@@ -265,6 +371,7 @@ export default async function render(main, ctx) {
   ];
   let measure = ctx.query.measure || "wz";
 
+  const jobsById = new Map();
   async function drawMap(jobId) {
     lastMap = null;
     setChildren(mapMsg);
@@ -272,17 +379,21 @@ export default async function render(main, ctx) {
       mapCard.empty("Choose a job.");
       return;
     }
+    const job = jobsById.get(jobId);
+    if (job && !job.has_results) {
+      mapCard.empty(`Job ${jobId.slice(0, 8)} is ${job.status}: the comfort map needs its results.`);
+      return;
+    }
     mapCard.loading("Loading the run's summary…");
     try {
-      const [sum, sc] = await Promise.all([cached(`summary:${jobId}`, () => api.summary(jobId)), api.jobScenario(jobId)]);
-      const spacing = sc?.output?.floor_grid_spacing_m;
+      const [sum, chans] = await Promise.all([cached(`summary:${jobId}`, () => api.summary(jobId)), cached(`channels:${jobId}`, () => api.channels(jobId))]);
       const pts = sum.summary?.points || {};
-      if (!spacing || !Object.keys(pts).some((p) => /^F\d+_\d+$/.test(p))) {
+      const grid = floorGridOf(chans.points);
+      if (!grid.n || !Object.keys(pts).some((p) => /^F\d+_\d+$/.test(p))) {
         mapCard.empty("This run did not record the floor grid.");
         setChildren(mapMsg, notice("info", null, "Set Outputs → floor grid spacing (output.floor_grid_spacing_m, e.g. 1.0 m) and run again: ", h("a", { href: `#/new?from=${jobId}` }, "new job from this one"), "."));
         return;
       }
-      const grid = floorGrid(spacing);
       const value = (p) => {
         const d = pts[p]?.directions;
         if (!d) return null;
@@ -296,38 +407,41 @@ export default async function render(main, ctx) {
           default: return null;
         }
       };
-      const z = grid.ys.map((_, j) => grid.xs.map((__, i) => value(grid.name(i, j))));
+      const z = grid.ys.map((y) => grid.xs.map((x) => value(grid.name(x, y))));
       const rows = [];
-      grid.xs.forEach((x, i) => grid.ys.forEach((y, j) => rows.push([grid.name(i, j), x, y, value(grid.name(i, j))])));
+      grid.xs.forEach((x) => grid.ys.forEach((y) => { const n = grid.name(x, y); if (n) rows.push([n, x, y, value(n)]); }));
       const label = MEASURES.find(([k]) => k === measure)[1];
       lastMap = { rows, label };
-      const lc = (sc.vehicle?.geometry?.bogie_centre_spacing ?? 12.6) / 2;
-      const ys = sc.vehicle?.geometry?.secondary_lateral_half_spacing ?? 0.95;
-      const named = [["PFB", lc, 0], ["PC", 0, 0], ["PRB", -lc, 0], ["PLA", -lc, ys], ["PRA", -lc, -ys]].filter(([p]) => pts[p]);
+      // the paper's floor points where the server says they are
+      const named = (chans.points || []).filter((p) => p.body === "carbody" && PAPER_FLOOR_POINTS.includes(p.name) && pts[p.name]);
       const short = MEASURES.find(([k]) => k === measure)[2];
       await mapCard.draw([
         { type: "heatmap", x: grid.xs, y: grid.ys, z, colorscale: "YlOrRd", reversescale: true, zsmooth: grid.ys.length > 1 ? "best" : false,
           colorbar: { title: { text: prettyUnit(short) } }, hovertemplate: `x = %{x:.2f} m, y = %{y:.2f} m<br>${label}: %{z:.3f}<extra></extra>` },
-        { type: "scatter", mode: "markers", x: named.map((n) => n[1]), y: named.map((n) => n[2]), text: named.map((n) => `${n[0]} ${fixed(value(n[0]), 2)}`),
+        { type: "scatter", mode: "markers", x: named.map((p) => p.x), y: named.map((p) => p.y), text: named.map((p) => `${p.name} ${fixed(value(p.name), 2)}`),
           marker: { color: "#0b4f8a", size: 9, symbol: "x" }, name: "paper points", hovertemplate: "%{text}<extra></extra>" },
       ], baseLayout("Position along the car body x (m)", "Lateral position y (m)", {
         yaxis: { scaleanchor: "x", scaleratio: 1 }, showlegend: false,
-        annotations: named.map((n) => ({ x: n[1], y: n[2], text: `${n[0]} ${fixed(value(n[0]), 2)}`, showarrow: false, yshift: 14, font: { size: 11, color: "#1f2933" }, bgcolor: "rgba(255,255,255,.85)" })),
+        annotations: named.map((p) => ({ x: p.x, y: p.y, text: `${p.name} ${fixed(value(p.name), 2)}`, showarrow: false, yshift: 14, font: { size: 11, color: "#1f2933" }, bgcolor: "rgba(255,255,255,.85)" })),
       }));
       const vals = rows.map((r) => r[3]).filter((v) => v !== null);
       const worst = rows.reduce((a, r) => (r[3] !== null && (a === null || r[3] > a[3]) ? r : a), null);
-      mapCard.setNote(`${label} on a ${fmt(spacing)} m grid (${rows.length} points, floor at ${fmt(sc.output.floor_height_m)} m). Range ${fmt(Math.min(...vals), 3)}–${fmt(Math.max(...vals), 3)}; largest at ${worst?.[0]} (x = ${fmt(worst?.[1])} m, y = ${fmt(worst?.[2])} m).`);
+      const spacing = grid.xs.length > 1 ? grid.xs[1] - grid.xs[0] : null;
+      mapCard.setNote(`${label} on the floor grid (${rows.length} points${spacing ? `, ${fmt(spacing)} m apart along the body` : ""}, floor at ${fmt(grid.z)} m). Range ${fmt(Math.min(...vals), 3)}–${fmt(Math.max(...vals), 3)}; largest at ${worst?.[0]} (x = ${fmt(worst?.[1])} m, y = ${fmt(worst?.[2])} m).`);
     } catch (err) {
       mapCard.error(err, "No comfort map");
     }
   }
 
-  main.append(h("h1", {}, "Flexible body"),
-    h("div", { class: "three" }, h("section", { class: "card", "aria-labelledby": "modes-title" }, h("h2", { id: "modes-title", class: "h3", style: { marginTop: 0 } }, "Mode shapes"), modeList),
-      h("div", {}, meshMsg, card.el)),
+  const jobBox = h("div", { class: "controls", id: "flex-job-controls" });
+  main.append(h("h1", {}, "Flexible body"), jobBox,
+    h("div", { class: "three" }, h("section", { class: "card stack", "aria-labelledby": "modes-title" },
+      h("h2", { id: "fe-model-title", class: "h3", style: { marginTop: 0 } }, "Model"), modelForm,
+      h("h2", { id: "modes-title", class: "h3" }, "Mode shapes"), modeList),
+    h("div", {}, meshMsg, card.el)),
     h("h2", {}, "Comfort over the floor"), mapMsg, mapCard.el);
 
-  // jobs for the comfort map
+  // jobs: the flexible body of the chosen job (when it has one) and its comfort map
   try {
     const page = await api.jobs({ status: "succeeded", limit: 200 }, { signal: ctx.signal });
     const jobs = page.items.filter((j) => j.has_results);
@@ -338,12 +452,15 @@ export default async function render(main, ctx) {
         jobs.unshift(await api.job(ctx.query.job));
       } catch { /* ignore */ }
     }
-    const sel = simpleSelect("map-job", "Job", jobs.map((j) => [j.id, jobLabel(j)]), ctx.query.job || want, (v) => { replaceQuery({ kind: state.kind, job: v, measure }); drawMap(v); });
+    for (const j of jobs) jobsById.set(j.id, j);
+    const sel = simpleSelect("flex-job", "Job", [["", "none (model by its parameters)"], ...jobs.map((j) => [j.id, jobLabel(j)])], ctx.query.job || want,
+      (v) => { saveQuery(); drawMap(v); loadFromService(); });
     jobSel = sel.querySelector("select");
-    mapCard.setControls(h("div", { class: "controls" }, sel,
-      simpleSelect("map-measure", "Measure", MEASURES.map(([k, l]) => [k, l]), measure, (v) => { measure = v; replaceQuery({ kind: state.kind, job: jobSel.value, measure }); drawMap(jobSel.value); })));
-    if (jobs.length) drawMap(jobSel.value);
-    else mapCard.empty("No finished job yet.");
+    setChildren(jobBox, sel, h("p", { class: "help" }, "A job whose car body or frames are flexible shows its own FE model; the comfort map needs a run that recorded the floor grid."));
+    mapCard.setControls(h("div", { class: "controls" },
+      simpleSelect("map-measure", "Measure", MEASURES.map(([k, l]) => [k, l]), measure, (v) => { measure = v; saveQuery(); drawMap(jobSel.value); })));
+    if (jobSel.value) drawMap(jobSel.value);
+    else mapCard.empty(jobs.length ? "Choose a job." : "No finished job yet.");
   } catch (err) {
     if (!ctx.signal.aborted) mapCard.error(err, "Could not list the jobs");
   }

@@ -390,14 +390,58 @@ def _tube_mesh() -> dict:
     }
 
 
-def test_flexible_body_mesh_modes_and_comfort_map(page, server, shot, wait_plot, tmp_path):
+#: A coarse car body (0.5 m elements, 868 nodes): built in a few seconds, long enough to see the
+#: view's "building" state (the server answers 202 after waiting 3 s for a build).
+COARSE = 0.5
+
+
+def test_flexible_body_view_builds_and_draws_the_car_body(page, server, shot, wait_plot):
+    goto(page, f"/flex?element_size_m={COARSE}")
+    # the server builds the model (202): the view says so and asks again
+    building = page.locator("#fe-building")
+    building.wait_for(timeout=30_000)
+    assert "Building the FE model" in page.locator("main").inner_text()
+    assert "first time only" in page.locator("main").inner_text()
+    n = wait_plot(page, "#plot-mesh", timeout=180_000)
+    exported = server.api(f"/fe/carbody?element_size_m={COARSE}")
+    assert n >= len(exported["nodes"]) > 100
+    modes = page.locator(".mode-list button")
+    assert modes.count() == len(exported["modes"]) == 12
+    f1 = exported["modes"][0]["frequency_hz"]
+    assert f"{f1:.3g}" in modes.first.inner_text() and "Hz" in modes.first.inner_text()
+    info = page.locator("#fe-model-info").inner_text()
+    assert "modal reduction" in info and f"element size {COARSE} m" in info
+    assert page.locator("#fe-element-size").input_value() == str(COARSE)
+    assert not building.is_visible()
+    modes.nth(1).click()
+    assert "Mode 2:" in page.locator("#plot-mesh .plot-note").inner_text()
+    shot(page, "15-flexible-body")
+
+
+def test_flexible_body_of_a_job_is_that_jobs_model(page, server, wait_plot):
+    job = server.api("/jobs", {"preset": "paper-random-straight-80", "reuse": False, "overrides": {
+        "duration_s": 0.5, "distance_m": None, "bodies.carbody.model": "flexible",
+        "bodies.carbody.element_size_m": COARSE, "bodies.carbody.cutoff_hz": 30.0}})
+    goto(page, f"/flex?job={job['id']}")
+    wait_plot(page, "#plot-mesh", timeout=180_000)
+    info = page.locator("#fe-model-info").inner_text()
+    assert f"of job {job['id'][:8]}" in info and "cut-off 30 Hz" in info
+    # the job's own parameters, not editable here
+    assert page.locator("#fe-cutoff").input_value() == "30"
+    assert page.locator("#fe-cutoff").is_disabled()
+    assert server.wait_job(job["id"], timeout=240)["status"] == "succeeded"
+
+
+def test_flexible_body_mesh_file_and_comfort_map(page, server, shot, wait_plot, tmp_path):
     job_id = STATE.get("job") or finished_job(server, **{"output.floor_grid_spacing_m": 2.0})
     mesh = tmp_path / "tube.json"
     mesh.write_text(json.dumps(_tube_mesh()))
-    goto(page, f"/flex?job={job_id}")
-    # no FE endpoint in this API version: the view says how to export a mesh
-    page.get_by_text("flexride fe export carbody").wait_for()
+    goto(page, f"/flex?job={job_id}&element_size_m={COARSE}")
+    wait_plot(page, "#plot-mesh", timeout=180_000)  # the service's model first
+    assert "models the car body as rigid" in page.locator("#fe-model-info").inner_text()
+    # a mesh file replaces it
     page.set_input_files("#mesh-file", str(mesh))
+    page.get_by_text("tube.json:").wait_for()
     assert wait_plot(page, "#plot-mesh") >= len(_tube_mesh()["nodes"])
     modes = page.locator(".mode-list button")
     assert modes.count() == 2 and "9.8 Hz" in modes.first.inner_text()
@@ -410,10 +454,16 @@ def test_flexible_body_mesh_modes_and_comfort_map(page, server, shot, wait_plot,
     z1 = page.eval_on_selector("#plot-mesh .plot", "e => e.data[0].z.slice()")
     page.uncheck("#mode-animate")
     assert z0 != z1, "the animation moves the mesh"
+    # the comfort map: floor-grid points where the channel list places them
     n = wait_plot(page, "#plot-comfort-map")
     assert n >= 20, "a 2 m floor grid has 20 points"
+    heat = page.eval_on_selector("#plot-comfort-map .plot", "e => [e.data[0].x, e.data[0].y]")
+    assert heat == [[-9 + 2 * i for i in range(10)], [-1.2, 1.2]]
+    marks = page.eval_on_selector("#plot-comfort-map .plot",
+                                  "e => e.data[1].x.map((x, i) => [x, e.data[1].y[i]])")
+    assert [6.3, 0] in marks and [-6.3, 0.95] in marks  # PFB and PLA
     assert "largest at F" in page.locator("#plot-comfort-map .plot-note").inner_text()
-    shot(page, "15-flexible-body")
+    shot(page, "15b-flexible-body-file-and-comfort-map")
 
 
 # -- errors, keyboard -----------------------------------------------------------------------------
@@ -463,7 +513,8 @@ def test_keyboard_navigation(page, server):
 
 def test_views_fit_a_laptop_screen(page, server):
     page.set_viewport_size({"width": 1280, "height": 800})
-    for route in ["/", "/new", "/studies/new", "/compare", "/flex"]:
+    # (a coarse car body on /flex: the one the flexible-body tests built)
+    for route in ["/", "/new", "/studies/new", "/compare", f"/flex?element_size_m={COARSE}"]:
         goto(page, route)
         page.wait_for_selector("h1")
         page.wait_for_timeout(150)
