@@ -57,3 +57,29 @@ def test_roof_vibrates_most(runs):
     rms = {p: np.sqrt(np.mean(flex.channels[f"carbody.{p}.acc.z"] ** 2))
            for p in ("PR", "PFB", "PC", "PRB")}
     assert max(rms, key=rms.get) == "PR"
+
+
+def test_floor_centre_ratio_moves_to_the_rigid_value_as_the_car_body_stiffens(runs):
+    """PC/PFB (rms vertical) falls from the default body through a stiffer body towards the
+    rigid body's value: the floor-centre excess comes from the low elastic modes with a mid-floor
+    antinode (docs/fem.md, "Floor centre vs above the bogies"). Stiff limit = rigid is the
+    oracle; the paper's "PC smallest" is not asserted (it depends on mode shapes we lack)."""
+    from flexride.fem.defaults import default_carbody_params
+    from flexride.fem.flexible import build_flexible_body
+    from flexride.vehicle.topology import build_vehicle
+
+    flex, rigid, _ = runs
+    sc = preset("paper-random-straight-80", distance_m=None, duration_s=10.0)
+    stiff_params = default_carbody_params().with_values(
+        floor_depth=0.08, beam_scale=2.0, nsm_underfloor=0.35, wall_depth=0.04, roof_depth=0.03)
+    body = build_flexible_body("carbody", sc.vehicle, "modal", 30.0, 0.02, 0.5,
+                               params=stiff_params).body
+    stiff = simulate(sc, vehicle=build_vehicle(sc.vehicle, sc.output, carbody=body))
+
+    def ratio(res):
+        rms = [np.sqrt(np.mean(res.channels[f"carbody.{p}.acc.z"] ** 2)) for p in ("PC", "PFB")]
+        return rms[0] / rms[1]
+
+    r_default, r_stiff, r_rigid = ratio(flex), ratio(stiff), ratio(rigid)
+    assert r_default > r_stiff > r_rigid
+    assert r_rigid < 0.8  # rigid pitch adds above the bogies
