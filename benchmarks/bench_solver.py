@@ -108,13 +108,15 @@ def main() -> None:
         print(f"import + compile + 0.01 s run, cached     : {cached:7.2f} s")
 
     simulate(load_preset("paper-metro-random", {"duration_s": 0.05}))  # warm (compiled)
-    res = simulate(load_preset("paper-metro-random", {"duration_s": 10.0}))
-    solve = res.meta["wall_time_solve_s"]
+    runs = [simulate(load_preset("paper-metro-random", {"duration_s": 10.0})) for _ in range(3)]
+    times = sorted(r.meta["wall_time_solve_s"] for r in runs)
+    res = runs[0]
+    solve = times[0]  # best of three: the least disturbed by other load on the machine
     steps = res.meta["n_steps"]
     print(f"setup (assembly, statics, stability)      : {res.meta['wall_time_setup_s']:7.3f} s")
     print(f"solve 10 s simulated                      : {solve:7.3f} s  "
           f"(target ≤ {TARGET_S_PER_10S:.1f} s: {'met' if solve <= TARGET_S_PER_10S else 'MISSED'}"
-          f", ratio {solve / TARGET_S_PER_10S:.2f})")
+          f", ratio {solve / TARGET_S_PER_10S:.2f}; best of 3, median {times[1]:.3f} s)")
     print(f"wall time per simulated second            : {solve / 10.0:7.4f} s")
     print(f"time per step                             : {solve / steps * 1e6:7.2f} µs  "
           f"({res.meta['n_dof']} coordinates, {res.meta['rail_modes_per_direction']} rail modes "
