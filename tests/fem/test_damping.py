@@ -33,3 +33,23 @@ def test_modal_damping_specs():
         modal_damping_ratios(-0.1, f)
     with pytest.raises(ValueError):
         _ = RayleighDamping(5.0, 5.0, 0.02, 0.02).coefficients
+
+
+def test_rayleigh_through_the_first_two_modes_hits_their_ratios():
+    """ζ at the first two elastic modes equals the given ratios; between them it is smaller
+    and above them it grows ∝ f (β K dominates) — paper Eqs. 2–4."""
+    from flexride.fem.damping import RayleighThroughModes
+
+    f = np.array([5.03, 6.11, 8.0, 20.0, 40.0])
+    z = modal_damping_ratios(RayleighThroughModes(0.02, 0.03), f)
+    assert z[0] == pytest.approx(0.02, rel=1e-12)
+    assert z[1] == pytest.approx(0.03, rel=1e-12)
+    assert z[3] < z[4] and z[4] / z[3] == pytest.approx(2.0, rel=0.05)
+
+
+def test_rayleigh_through_modes_needs_those_modes():
+    from flexride.errors import FEModelError
+    from flexride.fem.damping import RayleighThroughModes
+
+    with pytest.raises(FEModelError, match="modes 1 and 2"):
+        modal_damping_ratios(RayleighThroughModes(0.02, 0.02), np.array([5.0]))

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from flexride.errors import FEModelError
+
 
 @dataclass(frozen=True)
 class RayleighDamping:
@@ -42,7 +44,35 @@ class RayleighDamping:
         return alpha / (2.0 * np.maximum(w, 1e-12)) + beta * w / 2.0
 
 
-DampingSpec = float | Sequence[float] | np.ndarray | RayleighDamping
+@dataclass(frozen=True)
+class RayleighThroughModes:
+    """Rayleigh damping through two of the body's own elastic modes (paper Eqs. 2–4), whose
+    frequencies are known only once the FE model is solved.
+
+    Attributes
+    ----------
+    zeta1, zeta2 : float
+        Damping ratios of the two modes (-).
+    mode1, mode2 : int
+        1-based indices of the two elastic modes (default: the first two).
+    """
+
+    zeta1: float
+    zeta2: float
+    mode1: int = 1
+    mode2: int = 2
+
+    def resolve(self, frequencies: np.ndarray) -> RayleighDamping:
+        """The :class:`RayleighDamping` through the two modes of ``frequencies`` (Hz)."""
+        f = np.asarray(frequencies, dtype=float)
+        if min(self.mode1, self.mode2) < 1 or max(self.mode1, self.mode2) > f.size:
+            raise FEModelError(f"Rayleigh damping through modes {self.mode1} and {self.mode2} "
+                               f"needs that many elastic modes (the body has {f.size})")
+        return RayleighDamping(float(f[self.mode1 - 1]), float(f[self.mode2 - 1]),
+                               self.zeta1, self.zeta2)
+
+
+DampingSpec = float | Sequence[float] | np.ndarray | RayleighDamping | RayleighThroughModes
 
 
 def modal_damping_ratios(spec: DampingSpec, frequencies: np.ndarray) -> np.ndarray:
@@ -50,9 +80,9 @@ def modal_damping_ratios(spec: DampingSpec, frequencies: np.ndarray) -> np.ndarr
 
     Parameters
     ----------
-    spec : float, sequence of float or RayleighDamping
+    spec : float, sequence of float, RayleighDamping or RayleighThroughModes
         One ratio for all modes, one per mode (the last one repeats for further modes), or
-        Rayleigh damping.
+        Rayleigh damping (through given frequencies or through two of these modes).
     frequencies : numpy.ndarray
         Elastic natural frequencies (Hz).
 
@@ -62,6 +92,8 @@ def modal_damping_ratios(spec: DampingSpec, frequencies: np.ndarray) -> np.ndarr
         ζ per mode (-).
     """
     f = np.asarray(frequencies, dtype=float)
+    if isinstance(spec, RayleighThroughModes):
+        spec = spec.resolve(f)
     if isinstance(spec, RayleighDamping):
         z = spec.ratios(f)
     elif np.isscalar(spec):

@@ -19,7 +19,12 @@ class BodyModel(Schema):
     cutoff_hz: float = Field(40.0, gt=1.0, le=500.0,
                              description="Highest elastic mode frequency kept (Hz)")
     damping_ratio: float = Field(0.02, ge=0.0, le=0.5,
-                                 description="Modal damping ratio of the elastic modes (-)")
+                                 description="Damping ratio of the elastic modes (-): of every "
+                                 "mode (modal), or of the first two (rayleigh)")
+    damping_model: Literal["modal", "rayleigh"] = Field(
+        "modal", description="Damping of the elastic modes: modal (the same ratio for every "
+        "mode) or rayleigh (C = αM + βK through the first two elastic modes, paper Eqs. 2–4; "
+        "the ratio grows with frequency above them)")
     element_size_m: float = Field(0.2, ge=0.05, le=1.0,
                                   description="Finite-element size of the generated mesh (m)")
 

@@ -94,10 +94,13 @@ def _irregularity(scenario: Scenario, length: float) -> IrregularityProfile:
 
 
 def _flexible(kind: str, scenario: Scenario, settings, name: str, x_ref: float):
+    from flexride.fem.damping import RayleighThroughModes
     from flexride.fem.flexible import build_flexible_body
 
+    zeta = settings.damping_ratio
+    damping = RayleighThroughModes(zeta, zeta) if settings.damping_model == "rayleigh" else zeta
     fb = build_flexible_body(kind, scenario.vehicle, method=settings.reduction,
-                             cutoff_hz=settings.cutoff_hz, damping_ratio=settings.damping_ratio,
+                             cutoff_hz=settings.cutoff_hz, damping_ratio=damping,
                              element_size=settings.element_size_m, name=name, x_ref=x_ref)
     return fb.body
 
