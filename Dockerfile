@@ -8,6 +8,7 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1 \
     FLEXRIDE_DATA_DIR=/data \
     FLEXRIDE_CACHE_DIR=/opt/flexride-cache \
+    NUMBA_CACHE_DIR=/opt/flexride-numba \
     PYTHONPATH=/app
 
 WORKDIR /app
@@ -23,14 +24,16 @@ COPY worker ./worker
 COPY frontend ./frontend
 ENV FLEXRIDE_FRONTEND_DIR=/app/frontend
 
-# compile the numba kernels into the image's cache, so containers start warm
+# compile the numba kernels into the image's own cache (NUMBA_CACHE_DIR, fixed with the image,
+# so it stays warm when compose points FLEXRIDE_CACHE_DIR at a shared volume for FE models)
 RUN python -c "from flexride.jobs.warmup import warm_numba; warm_numba(); \
 import numpy as np; from flexride.api.services.decimate import lttb_indices; \
 lttb_indices(np.arange(100.0), np.arange(100.0), 10)" \
     && useradd --create-home --uid 1000 flexride \
     && mkdir -p /data \
     && chown -R flexride /data \
-    && chmod -R a+rwX /opt/flexride-cache
+    && mkdir -p /opt/flexride-cache \
+    && chmod -R a+rwX /opt/flexride-cache /opt/flexride-numba
 
 USER flexride
 VOLUME ["/data"]
