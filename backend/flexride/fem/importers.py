@@ -5,16 +5,18 @@ Supported matrix files:
 * MatrixMarket (``.mtx``, ``scipy.io.mmread``), e.g. from any code or a script;
 * Harwell–Boeing (ANSYS ``HBMAT`` export, ``scipy.io.hb_read``); ANSYS writes symmetric
   matrices as their lower triangle (type ``RSA``), which is expanded here;
-* ANSYS ``.full`` binaries through ``ansys-mapdl-reader`` when that package is installed (it is
-  not a flexride dependency);
+* ANSYS ``.full`` binaries (stiffness, mass and DOF map in one file) through the optional
+  package ``ansys-mapdl-reader`` (see :mod:`flexride.fem.optional_readers`);
 * Nastran ``DMIG`` bulk-data entries (small or large fixed field, or free field; real, form 6
-  symmetric or 1 square), read by :func:`read_dmig`.
+  symmetric or 1 square), read by :func:`read_dmig`;
+* Nastran ``OP4`` files (binary or ASCII, dense or sparse; real) through the optional package
+  ``pyyeti``; OP4 holds matrices only, the DOF map comes as for MatrixMarket.
 
 The node file is CSV ``id, x, y, z`` (a header line is allowed). The DOF map says which node
 and component every matrix row belongs to: a CSV ``row, node, component`` (component 1–6 or
 ``UX UY UZ ROTX ROTY ROTZ``), an ANSYS ``.mapping`` file from ``HBMAT`` (``eqn node label``), or
-nothing, meaning six DOFs per node in node-file order. Unit systems: ``SI`` (m, kg, N) or
-``mm-t-s`` (mm, tonne, N), converted to SI on import.
+nothing, meaning six DOFs per node in node-file order (DMIG and ``.full`` files carry their own
+map). Unit systems: ``SI`` (m, kg, N) or ``mm-t-s`` (mm, tonne, N), converted to SI on import.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import io
 import re
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 import scipy.io as sio
@@ -30,6 +33,7 @@ import scipy.sparse as sp
 
 from flexride.errors import FEModelError
 from flexride.fem.model import FEModel
+from flexride.fem.optional_readers import read_ansys_full, read_op4
 from flexride.fem.pyfe3d_adapter import Mesh
 
 _COMPONENTS = {
@@ -44,18 +48,22 @@ _COMPONENTS = {
     "RZ": 5,
 }
 UNIT_SYSTEMS = ("SI", "mm-t-s")
+FORMATS = ("mtx", "hb", "dmig", "op4", "ansys-full")
 
 
-def read_matrix(path: str | Path, fmt: str | None = None) -> sp.csc_matrix:
+def read_matrix(path: str | Path, fmt: str | None = None, name: str | None = None) -> sp.csc_matrix:
     """Read one sparse matrix.
 
     Parameters
     ----------
     path : str or Path
         File.
-    fmt : {"mtx", "hb", "dmig"}, optional
+    fmt : {"mtx", "hb", "op4"}, optional
         Format; guessed from the suffix when omitted (``.mtx``, ``.hb``/``.rsa``/``.rua``/
-        ``.matrix``, ``.dmig``/``.bdf``/``.pch``). DMIG needs :func:`read_dmig` for the name.
+        ``.matrix``, ``.op4``). DMIG needs :func:`read_dmig`, ANSYS ``.full``
+        :func:`flexride.fem.optional_readers.read_ansys_full`.
+    name : str, optional
+        OP4 matrix name (not needed when the file holds one matrix).
 
     Returns
     -------
@@ -70,11 +78,18 @@ def read_matrix(path: str | Path, fmt: str | None = None) -> sp.csc_matrix:
             return sp.csc_matrix(sio.mmread(str(p)))
         if fmt == "hb":
             return _read_hb(p)
+        if fmt == "op4":
+            return read_op4(p, name)
     except FEModelError:
         raise
     except Exception as exc:
         raise FEModelError(f"cannot read {fmt} matrix {p}: {exc}") from exc
-    raise FEModelError(f"unknown matrix format {fmt!r} for {p} (use mtx or hb)")
+    if fmt in ("dmig", "ansys-full"):
+        raise FEModelError(
+            f"{p}: {fmt} files carry a DOF map: read them with "
+            + ("read_dmig (with the matrix name)" if fmt == "dmig" else "read_ansys_full")
+        )
+    raise FEModelError(f"unknown matrix format {fmt!r} for {p} (use mtx, hb or op4)")
 
 
 def _guess_format(p: Path) -> str:
@@ -85,7 +100,13 @@ def _guess_format(p: Path) -> str:
         return "hb"
     if s in (".dmig", ".bdf", ".pch", ".dat"):
         return "dmig"
-    raise FEModelError(f"cannot tell the format of {p} from its suffix: give the format")
+    if s == ".op4":
+        return "op4"
+    if s == ".full":
+        return "ansys-full"
+    raise FEModelError(
+        f"cannot tell the format of {p} from its suffix: give the format (one of {FORMATS})"
+    )
 
 
 def _read_hb(p: Path) -> sp.csc_matrix:
@@ -260,6 +281,8 @@ def read_dof_map(path: str | Path) -> list[tuple[int, int]]:
 
 
 def _check_matrix(A: sp.spmatrix, what: str, n: int | None) -> sp.csc_matrix:
+    if np.iscomplexobj(A.data if sp.issparse(A) else A):
+        raise FEModelError(f"{what} matrix is complex; need a real matrix")
     A = sp.csc_matrix(A, dtype=float)
     if A.shape[0] != A.shape[1]:
         raise FEModelError(f"{what} matrix is not square: {A.shape}")
@@ -279,7 +302,7 @@ def _check_matrix(A: sp.spmatrix, what: str, n: int | None) -> sp.csc_matrix:
 def import_fe_model(
     name: str,
     stiffness: str | Path | sp.spmatrix,
-    mass: str | Path | sp.spmatrix,
+    mass: str | Path | sp.spmatrix | None,
     nodes: str | Path | tuple[np.ndarray, np.ndarray],
     dof_map: str | Path | list[tuple[int, int]] | None = None,
     attachments: Mapping[str, int] | None = None,
@@ -287,6 +310,8 @@ def import_fe_model(
     fmt: str | None = None,
     units: str = "SI",
     dmig_names: tuple[str, str] = ("KAAX", "MAAX"),
+    op4_names: tuple[str, str] | None = None,
+    constrained: Literal["error", "drop"] = "error",
 ) -> FEModel:
     """Build an :class:`FEModel` from external matrices.
 
@@ -295,45 +320,71 @@ def import_fe_model(
     name : str
         Model name.
     stiffness, mass : path or sparse matrix
-        Matrix files (see module doc) or matrices.
+        Matrix files (see module doc) or matrices. ``mass`` is None for an ANSYS ``.full``
+        file (it holds both) and may be None for an OP4 file holding both matrices.
     nodes : path or (ids, coordinates)
         Node ids and coordinates (model axes; for vehicle bodies x forward, y left, z up
-        from top of rail).
+        from top of rail; length unit of ``units``).
     dof_map : path or list of (node id, component 0–5), optional
         Node and component of each matrix row; six per node in node order when omitted.
-        DMIG files carry their own map.
+        DMIG files carry their own map (a given ``dof_map`` replaces it); ANSYS ``.full``
+        files carry theirs and take none.
     attachments, outputs : dict of str to int, optional
         Named suspension-attachment and output nodes (node ids).
-    fmt : str, optional
-        ``mtx``, ``hb``, ``dmig`` or ``ansys-full`` (guessed from suffixes otherwise).
+    fmt : {"mtx", "hb", "dmig", "op4", "ansys-full"}, optional
+        File format (guessed from suffixes otherwise: ``.mtx``, ``.matrix``/``.hb``/``.rsa``,
+        ``.dmig``/``.pch``/``.bdf``, ``.op4``, ``.full``).
     units : {"SI", "mm-t-s"}
-        Unit system of the files.
+        Unit system of the files (SI: m, kg, N; mm-t-s: mm, tonne, N).
     dmig_names : (str, str)
         DMIG names of the stiffness and mass matrices.
+    op4_names : (str, str), optional
+        OP4 names of the stiffness and mass matrices (e.g. ``("KGG", "MGG")``); may be omitted
+        when each file holds a single matrix.
+    constrained : {"error", "drop"}
+        What to do with the DOFs an ANSYS ``.full`` file marks as constrained (their rows and
+        columns are zero): ``"error"`` refuses the file, ``"drop"`` leaves them out (the model
+        is then clamped, not free–free, and :func:`flexride.fem.flexible.flexible_body_from_model`
+        rejects it; useful to check the matrices).
 
     Returns
     -------
     FEModel
-        With ``K``, ``M`` set, ``info["dof_map"]`` the (node index, component) of each DOF.
+        With ``K``, ``M`` (SI) set, ``info["dof_nodes"]``/``info["dof_components"]`` the node
+        index and component (0–5) of each DOF.
 
     Raises
     ------
     FEModelError
-        For unreadable, non-symmetric, wrongly sized or inconsistent inputs, nodes missing from
-        the node list, or negative mass.
+        For unreadable, complex, non-symmetric, wrongly sized or inconsistent inputs, nodes
+        missing from the node list, negative mass, DOFs without stiffness (constrained or
+        unused DOFs) or a ``.full`` file with constrained DOFs (unless ``constrained="drop"``).
     """
     if units not in UNIT_SYSTEMS:
         raise FEModelError(f"unknown unit system {units!r}: use one of {UNIT_SYSTEMS}")
+    if constrained not in ("error", "drop"):
+        raise FEModelError(f"constrained must be 'error' or 'drop', not {constrained!r}")
+    if fmt is not None and fmt not in FORMATS:
+        raise FEModelError(f"unknown matrix format {fmt!r}: use one of {FORMATS}")
     if isinstance(nodes, tuple):
         ids, xyz = np.asarray(nodes[0], dtype=np.int64), np.asarray(nodes[1], dtype=float)
     else:
         ids, xyz = read_nodes(nodes)
+    is_file = isinstance(stiffness, (str, Path))
+    kind = (fmt or _guess_format(Path(stiffness))) if is_file else "matrix"
+    source: dict = {"format": kind}
     dmap: list[tuple[int, int]] | None = None
-    if fmt == "ansys-full" or (
-        isinstance(stiffness, (str, Path)) and str(stiffness).endswith(".full")
-    ):
-        K, M, dmap = _read_ansys_full(Path(stiffness))
+    if kind == "ansys-full":
+        if mass is not None and Path(mass) != Path(stiffness):
+            raise FEModelError("an ANSYS .full file holds both matrices: give mass=None")
+        if dof_map is not None:
+            raise FEModelError("an ANSYS .full file carries its own DOF map: give no dof_map")
+        K, M, dmap, source = _ansys_full_matrices(Path(stiffness), constrained)
+    elif kind == "op4":
+        K, M = _op4_matrices(Path(stiffness), mass, op4_names)
     else:
+        if mass is None:
+            raise FEModelError("no mass matrix given")
         K, M, dmap = _read_pair(stiffness, mass, fmt, dmig_names)
     if dof_map is not None:
         dmap = read_dof_map(dof_map) if isinstance(dof_map, (str, Path)) else list(dof_map)
@@ -346,6 +397,8 @@ def import_fe_model(
             f"the DOF map refers to nodes missing from the node list: {missing[:10]}"
             + (" ..." if len(missing) > 10 else "")
         )
+    if len(set(dmap)) != len(dmap):
+        raise FEModelError("the DOF map names the same node and component twice")
     n = len(dmap)
     K = _check_matrix(K, "stiffness", n)
     M = _check_matrix(M, "mass", n)
@@ -357,6 +410,7 @@ def import_fe_model(
         )
     if np.any(K.diagonal() < 0):
         raise FEModelError("negative stiffness on the diagonal of K")
+    _check_no_empty_rows(K, dmap)
     if units == "mm-t-s":
         xyz = xyz * 1e-3
         d = np.array([1e3 if c < 3 else 1.0 for _, c in dmap])
@@ -379,6 +433,7 @@ def import_fe_model(
         M=M,
         info={
             "source": "import",
+            "import": source,
             "dof_nodes": dof_nodes,
             "dof_components": dof_comp,
             "attachments": list((attachments or {}).keys()),
@@ -387,6 +442,56 @@ def import_fe_model(
         },
     )
     return model
+
+
+def _check_no_empty_rows(K: sp.csc_matrix, dmap: list[tuple[int, int]]) -> None:
+    """Refuse DOFs whose stiffness row is zero (constrained, or not used by any element)."""
+    empty = np.flatnonzero(np.asarray(abs(K).sum(axis=0)).ravel() == 0.0)
+    if empty.size:
+        where = ", ".join(f"node {dmap[i][0]} component {dmap[i][1] + 1}" for i in empty[:5])
+        raise FEModelError(
+            f"{empty.size} DOFs have no stiffness ({where}{' ...' if empty.size > 5 else ''}): "
+            "they are constrained or not used by any element; flexride needs the free–free "
+            "matrices of the DOFs the model uses (leave such DOFs out of the DOF map)"
+        )
+
+
+def _ansys_full_matrices(
+    path: Path, constrained: str
+) -> tuple[sp.csc_matrix, sp.csc_matrix, list[tuple[int, int]], dict]:
+    full = read_ansys_full(path)
+    K, M, dofs = full.K, full.M, full.dofs
+    n_const = int(full.constrained.sum())
+    if n_const and constrained == "error":
+        nodes = sorted({dofs[i][0] for i in np.flatnonzero(full.constrained)})
+        raise FEModelError(
+            f"{path}: {n_const} DOFs at {len(nodes)} nodes are constrained (e.g. nodes "
+            f"{nodes[:5]}); flexride needs the free–free matrices: remove the constraints (D) "
+            "before writing the .full file, or pass constrained='drop' to leave these DOFs "
+            "out (the model is then clamped and cannot become a flexible vehicle body)"
+        )
+    if n_const:
+        keep = np.flatnonzero(~full.constrained)
+        K, M = K[keep][:, keep].tocsc(), M[keep][:, keep].tocsc()
+        dofs = [dofs[i] for i in keep]
+    source = {
+        "format": "ansys-full",
+        "ansys_version": full.ansys_version,
+        "dropped_constrained_dofs": n_const,
+    }
+    return K, M, dofs, source
+
+
+def _op4_matrices(
+    stiffness: Path, mass: str | Path | None, names: tuple[str, str] | None
+) -> tuple[sp.csc_matrix, sp.csc_matrix]:
+    mass_path = stiffness if mass is None else Path(mass)
+    k_name, m_name = names if names is not None else (None, None)
+    if names is None and mass_path == stiffness:
+        raise FEModelError(
+            f"{stiffness} holds both matrices: give their names, e.g. op4_names=('KGG', 'MGG')"
+        )
+    return read_op4(stiffness, k_name), read_op4(mass_path, m_name)
 
 
 def _read_pair(stiffness, mass, fmt, dmig_names):
@@ -415,19 +520,3 @@ def _expand(A: sp.spmatrix, dofs, alld) -> sp.csc_matrix:
         shape=(len(alld), len(dofs)),
     )
     return (P @ A @ P.T).tocsc()
-
-
-def _read_ansys_full(path: Path):
-    try:
-        from ansys.mapdl.reader import read_binary  # type: ignore[import-not-found]
-    except ImportError as exc:
-        raise FEModelError(
-            "reading ANSYS .full files needs the optional package ansys-mapdl-reader "
-            "(pip install ansys-mapdl-reader); or export with HBMAT and use the .matrix file"
-        ) from exc
-    if not path.is_file():
-        raise FEModelError(f"ANSYS .full file not found: {path}")
-    full = read_binary(str(path))
-    dof_ref, k, m = full.load_km(sort=True)
-    dmap = [(int(nd), int(c)) for nd, c in dof_ref]
-    return sp.csc_matrix(k), sp.csc_matrix(m), dmap
