@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib.util
 import re
+import shutil
 import sys
 from pathlib import Path
 
@@ -596,3 +597,75 @@ def test_ansys_reader_loads_without_its_plotting_dependencies():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     has_pyvista = importlib.util.find_spec("pyvista") is not None
     assert out.stdout.split() == ["ansys.mapdl.reader.full", str(has_pyvista), str(has_pyvista)]
+
+
+# -- the worked examples of docs/fem.md, "Bring your own FE model" --------------------------------
+
+DOCS_FEM = Path(__file__).resolve().parents[2] / "docs" / "fem.md"
+
+
+def _byo_blocks() -> list[str]:
+    text = DOCS_FEM.read_text(encoding="utf-8")
+    section = text.split("## Bring your own FE model", 1)[1].split("\n## ", 1)[0]
+    return re.findall(r"```python\n(.*?)```", section, flags=re.S)
+
+
+def _numbers(text: str) -> list[float]:
+    return [float(v) for v in re.findall(r"-?\d+(?:\.\d+)?", text)]
+
+
+def test_docs_bring_your_own_examples_run(
+    source, free_beam, hexbeam, tmp_path, monkeypatch, capsys, cache_dir
+):
+    """Every python block of the section runs, in a directory holding the files it names;
+    the frequencies printed are the ones its comments give."""
+    # the HBMAT example: a frame in mm, tonne, s with the node numbers of the example
+    model, K, M = source
+    n = model.nodes.shape[0]
+    ids = np.arange(1, n + 1) + 10000
+    for nid, key in zip(
+        (1001, 1002, 2001, 2002, 5001, 5002),
+        ("ab1L", "ab1R", "ab2L", "ab2R", "centre", "asL"),
+        strict=True,
+    ):
+        ids[model.named_nodes[key]] = nid
+    d = np.tile(np.where(np.arange(6) < 3, 1e-3, 1.0), n)
+    D = sp.diags(d)
+    _write_hb_rsa(tmp_path / "k.matrix", (1e3 * (D @ K @ D)).tocsc())
+    _write_hb_rsa(tmp_path / "m.matrix", (1e3 * (D @ M @ D)).tocsc())
+    _write_nodes(tmp_path / "nodes.csv", model.nodes * 1e3, ids)
+    labels = ["UX", "UY", "UZ", "ROTX", "ROTY", "ROTZ"]
+    (tmp_path / "k.mapping").write_text(
+        "Matrix Eqn   Node   DOF\n"
+        + "".join(f"{6 * i + c + 1} {ids[i]} {labels[c]}\n" for i in range(n) for c in range(6))
+    )
+    # the OP4 example: the free beam, grids 1..41
+    Kb, Mb, nodes = free_beam
+    _op4().write(str(tmp_path / "beam.op4"), {"KGG": Kb, "MGG": Mb})
+    _write_nodes(tmp_path / "beam_nodes.csv", nodes, np.arange(1, nodes.shape[0] + 1))
+    # the .full example: the reader's example file and the nodes of HexBeam.cdb
+    full, hids, hxyz = hexbeam
+    shutil.copy(full, tmp_path / "file.full")
+    _write_nodes(tmp_path / "hexbeam_nodes.csv", hxyz, hids)
+
+    blocks = _byo_blocks()
+    assert len(blocks) == 3
+    monkeypatch.chdir(tmp_path)
+    for k, block in enumerate(blocks):
+        ns: dict = {}
+        exec(compile(block, f"docs/fem.md, block {k + 1}", "exec"), ns)
+        printed = capsys.readouterr().out
+        for line in block.splitlines():
+            if line.startswith("print(") and "#" in line:
+                claimed = _numbers(line.split("#", 1)[1])
+                np.testing.assert_allclose(_numbers(printed), claimed, atol=6e-3)
+        if k == 0:
+            body = ns["fb"].body
+            assert set(body.elastic_shapes) == {"as1L", "as1R", "as2L", "as2R", "PR", "PC"}
+            assert body.mass == pytest.approx(model.mass_properties().mass, rel=1e-9)
+        elif k == 1:
+            np.testing.assert_allclose(_freqs(ns["fb"]), _free_beam_frequencies(50.0), rtol=4e-6)
+        else:
+            np.testing.assert_allclose(
+                np.sort(np.sqrt(ns["w2"]) / (2 * np.pi)), HEXBEAM_DOC_HZ, atol=6e-4
+            )
