@@ -7,8 +7,9 @@ issue) and times
 1. the API requests behind the job view: summary, channel list, the time histories of three
    channels decimated to a full-width plot (2,400 points), a zoomed range, amplitude spectrum,
    PSD, spectrogram, Sperling breakdown and cross-correlation;
-2. with the system Chromium (``/usr/bin/chromium`` or ``FLEXRIDE_CHROMIUM``, never downloaded;
-   skipped when absent):
+2. with the system Chromium (``/usr/bin/chromium`` or ``FLEXRIDE_CHROMIUM``) or, with
+   ``--browser firefox``, the system Firefox (``/usr/bin/firefox-esr`` or ``FLEXRIDE_FIREFOX``),
+   headless, never downloaded (skipped when absent):
    the first view (jobs list on screen, target < 1.5 s), Plotly (4.6 MB) loaded in the
    background after it, the job view with its summary, the
    time-history plot drawn at 1280 px, a zoom round trip (server decimation of the new range
@@ -16,7 +17,8 @@ issue) and times
 
 Usage::
 
-    .venv/bin/python benchmarks/bench_dashboard.py [--duration 20] [--repeat 5] [--no-browser]
+    .venv/bin/python benchmarks/bench_dashboard.py [--duration 20] [--repeat 5]
+        [--browser chromium|firefox] [--no-browser]
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
-from live_server import CHROMIUM_ARGS, chromium_path, start_server  # noqa: E402
+from live_server import BROWSERS, browser_path, launch_browser, start_server  # noqa: E402
 
 CHANNELS = ["carbody.PC.acc.z", "carbody.PR.acc.z", "carbody.PRB.acc.z"]
 
@@ -127,19 +129,19 @@ def bench_api(url: str, job: str, duration: float, repeat: int) -> None:
         print(f"  {name:<24}{1e3 * statistics.median(times):>10.1f}{size / 1e3:>11.1f}")
 
 
-def bench_browser(url: str, job: str, repeat: int) -> None:
-    chromium = chromium_path()
+def bench_browser(url: str, job: str, repeat: int, browser: str = "chromium") -> None:
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
         print("\nbrowser: skipped (no playwright)")
         return
-    if not chromium:
-        print("\nbrowser: skipped (no system Chromium)")
+    if not browser_path(browser):
+        print(f"\nbrowser: skipped (no system {browser}: apt-get install {BROWSERS[browser]})")
         return
     rows: dict[str, list[float]] = {}
     with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=chromium, args=CHROMIUM_ARGS)
+        b = launch_browser(p, browser)
+        version = b.version
         for _ in range(repeat):
             ctx = b.new_context(viewport={"width": 1280, "height": 800})
             pg = ctx.new_page()
@@ -179,7 +181,7 @@ def bench_browser(url: str, job: str, repeat: int) -> None:
             rows.setdefault("20 hover moves (ms)", []).append(1e3 * (time.perf_counter() - t))
             ctx.close()
         b.close()
-    print(f"\nbrowser, system Chromium at 1280×800 ({repeat} runs, median):")
+    print(f"\nbrowser, system {browser} {version} headless at 1280×800 ({repeat} runs, median):")
     for name, vals in rows.items():
         print(f"  {name:<38}{statistics.median(vals):>9.0f}")
 
@@ -188,6 +190,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--duration", type=float, default=20.0, help="simulated time of the job (s)")
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--browser", choices=list(BROWSERS), default="chromium",
+                    help="the system browser to time the views in (default: chromium)")
     ap.add_argument("--no-browser", action="store_true")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="flexride-bench-") as tmp:
@@ -196,7 +200,7 @@ def main() -> None:
             job = run_job(server.url, args.duration)
             bench_api(server.url, job, args.duration, args.repeat)
             if not args.no_browser:
-                bench_browser(server.url, job, max(1, min(args.repeat, 3)))
+                bench_browser(server.url, job, max(1, min(args.repeat, 3)), args.browser)
         finally:
             server.stop()
 

@@ -1,15 +1,27 @@
-"""A real ``flexride serve`` on a free port, and the system's headless Chromium: what the
-dashboard's browser tests (``tests/frontend/conftest.py``) and its benchmark
-(``benchmarks/bench_dashboard.py``) share.
+"""A real ``flexride serve`` on a free port, and the system's browsers: what the dashboard's
+browser tests (``tests/frontend/conftest.py``) and its benchmark (``benchmarks/bench_dashboard.py``)
+share.
 
-The browser is the Debian package ``chromium`` (``/usr/bin/chromium``), never a downloaded one;
-``FLEXRIDE_CHROMIUM`` selects another binary. Both importers put this directory on ``sys.path``.
+The browsers are Debian's packages, never downloaded ones: ``chromium`` (``/usr/bin/chromium``,
+or ``FLEXRIDE_CHROMIUM``), headless, driven by Playwright over the Chrome DevTools Protocol;
+and ``firefox-esr`` (``/usr/bin/firefox-esr``, or ``FLEXRIDE_FIREFOX``), driven over WebDriver
+BiDi (Playwright's ``moz-firefox`` channel: the stock Firefox, no ``playwright install``). The
+Python package ``playwright`` is pinned in ``pyproject.toml`` to a release whose BiDi commands
+Firefox ESR knows.
+
+Headless Firefox has no WebGL (Mozilla bug 1375585), so Plotly's 3D plots (the flexible-body
+view) cannot draw there; ``virtual_display`` starts a private Xvfb (Debian package ``xvfb``)
+on which Firefox runs with a window and gets WebGL from Mesa's software renderer. Headless
+Chromium has WebGL (SwiftShader).
+
+Both importers put this directory on ``sys.path``.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import select
 import shutil
 import socket
 import subprocess
@@ -17,6 +29,8 @@ import sys
 import time
 import urllib.error
 import urllib.request
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -33,6 +47,15 @@ CHROMIUM_ARGS = [
     "--disable-component-update",
     "--disable-sync",
 ]
+#: Preferences of the system Firefox (nothing checked or fetched at start).
+FIREFOX_PREFS = {
+    "app.update.enabled": False,
+    "browser.shell.checkDefaultBrowser": False,
+    "network.captive-portal-service.enabled": False,
+    "network.connectivity-service.enabled": False,
+}
+#: The browsers the dashboard is tested in (Playwright's names), and their Debian packages.
+BROWSERS = {"chromium": "chromium", "firefox": "firefox-esr"}
 
 
 def chromium_path() -> str | None:
@@ -44,6 +67,115 @@ def chromium_path() -> str | None:
         if Path(name).is_file():
             return name
     return shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def firefox_path() -> str | None:
+    """The system Firefox (``FLEXRIDE_FIREFOX`` if set; Debian's ESR first), or None."""
+    env = os.environ.get("FLEXRIDE_FIREFOX")
+    if env:
+        return env if Path(env).is_file() else None
+    for name in ("/usr/bin/firefox-esr", "/usr/bin/firefox"):
+        if Path(name).is_file():
+            return name
+    return shutil.which("firefox-esr") or shutil.which("firefox")
+
+
+def browser_path(name: str) -> str | None:
+    """The binary of browser ``name`` (a key of ``BROWSERS``), or None when it is missing."""
+    if name == "chromium":
+        return chromium_path()
+    if name == "firefox":
+        return firefox_path()
+    raise ValueError(f"unknown browser {name!r} (known: {', '.join(BROWSERS)})")
+
+
+def xvfb_path() -> str | None:
+    """The X virtual frame buffer ``Xvfb`` (Debian package ``xvfb``), or None."""
+    return shutil.which("Xvfb")
+
+
+@contextmanager
+def virtual_display(width: int = 1920, height: int = 1200, timeout: float = 15.0) -> Iterator[str]:
+    """A private X display (``Xvfb`` on the first free display number) for a browser with a
+    window; stopped on exit.
+
+    Yields
+    ------
+    str
+        Its ``DISPLAY`` value (``":<n>"``).
+
+    Raises
+    ------
+    FileNotFoundError
+        Without ``Xvfb`` (``apt-get install xvfb``).
+    """
+    exe = xvfb_path()
+    if exe is None:
+        raise FileNotFoundError("no Xvfb (apt-get install xvfb)")
+    rfd, wfd = os.pipe()
+    cmd = [exe, "-displayfd", str(wfd), "-screen", "0", f"{width}x{height}x24", "-nolisten", "tcp"]
+    try:
+        proc = subprocess.Popen(
+            cmd, pass_fds=(wfd,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+        )
+    finally:
+        os.close(wfd)
+    try:
+        number = b""
+        end = time.monotonic() + timeout
+        while not number.endswith(b"\n"):  # Xvfb writes its display number when it is ready
+            left = end - time.monotonic()
+            if left <= 0 or not select.select([rfd], [], [], left)[0]:
+                raise RuntimeError(f"Xvfb did not start within {timeout} s")
+            chunk = os.read(rfd, 16)
+            if not chunk:
+                raise RuntimeError(f"Xvfb exited ({proc.wait()}) before it was ready")
+            number += chunk
+        yield f":{int(number)}"
+    finally:
+        os.close(rfd)
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(timeout=5)
+
+
+def launch_browser(playwright: Any, name: str, *, display: str | None = None) -> Any:
+    """Launch the system browser ``name`` (``chromium`` or ``firefox``) with Playwright.
+
+    Parameters
+    ----------
+    playwright : playwright.sync_api.Playwright
+        A started Playwright (``sync_playwright().start()`` or its context manager).
+    name : str
+        A key of ``BROWSERS``.
+    display : str, optional
+        For Firefox: an X display (``virtual_display``) on which it runs with a window, which
+        gives it WebGL; headless without. Chromium is always headless.
+
+    Returns
+    -------
+    playwright.sync_api.Browser
+
+    Raises
+    ------
+    FileNotFoundError
+        When the browser is not installed (``apt-get install`` its ``BROWSERS`` package).
+    """
+    path = browser_path(name)
+    if path is None:
+        raise FileNotFoundError(f"no system {name} (apt-get install {BROWSERS[name]})")
+    if name == "chromium":
+        return playwright.chromium.launch(executable_path=path, args=CHROMIUM_ARGS, headless=True)
+    return playwright.firefox.launch(
+        channel="moz-firefox",  # WebDriver BiDi: the stock Firefox, not Playwright's build
+        executable_path=path,
+        headless=display is None,
+        env={**os.environ, "DISPLAY": display} if display else None,
+        firefox_user_prefs=FIREFOX_PREFS,
+    )
 
 
 def free_port() -> int:
