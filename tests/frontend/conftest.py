@@ -1,23 +1,30 @@
 """Fixtures of the dashboard's browser tests: a real ``flexride serve`` (embedded runner, temporary
-data directory, free port) and the system's headless Chromium driven by Playwright.
+data directory, free port) and the system's browsers driven by Playwright.
 
-The browser is the Debian package ``chromium`` (``/usr/bin/chromium``); it is never downloaded.
-Set ``FLEXRIDE_CHROMIUM`` to use another binary. Without a browser (or without the Python
-package ``playwright``) the tests are skipped, unless ``FLEXRIDE_BROWSER_TESTS=required`` (CI),
-which turns that into a failure.
+Every test runs in Chromium and in Firefox (test ids ``[chromium]`` and ``[firefox]``): the
+Debian packages ``chromium`` and ``firefox-esr``, never downloaded (``tools/live_server.py``
+launches them; ``FLEXRIDE_CHROMIUM`` / ``FLEXRIDE_FIREFOX`` select other binaries). Chromium
+runs headless; Firefox with a window on a private Xvfb display (package ``xvfb``), because
+headless Firefox has no WebGL and the flexible-body view draws its mesh with WebGL.
+``FLEXRIDE_BROWSERS=chromium`` (or ``firefox``, or both comma-separated) picks browsers. One
+server serves both browsers; each browser is launched once per session. Without a browser (or
+without the Python package ``playwright``) its tests are skipped, unless
+``FLEXRIDE_BROWSER_TESTS=required`` (CI), which turns that into a failure.
 
-Screenshots of every view go to ``tests/frontend/artifacts/`` (git-ignored).
+Screenshots of every view go to ``tests/frontend/artifacts/<browser>/`` (git-ignored).
 """
 
 from __future__ import annotations
 
+import base64
 import json
 import os
 import re
 import sys
 import time
 import urllib.request
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
@@ -25,10 +32,57 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
-from live_server import CHROMIUM_ARGS, LiveServer, chromium_path, start_server  # noqa: E402
+from live_server import (  # noqa: E402
+    BROWSERS,
+    LiveServer,
+    browser_path,
+    launch_browser,
+    start_server,
+    virtual_display,
+    xvfb_path,
+)
 
 ARTIFACTS = Path(__file__).parent / "artifacts"
 VIEWPORT = {"width": 1280, "height": 800}
+#: Browsers whose downloads Playwright sees (``page.expect_download``). Under WebDriver BiDi,
+#: Firefox ESR announces a download without the id Playwright needs, so there the exports are
+#: checked through ``DOWNLOAD_RECORDER`` instead.
+NATIVE_DOWNLOADS = {"chromium"}
+#: Init script for the other browsers: records every click on an ``<a download>`` (the
+#: dashboard's CSV export and Plotly's PNG/SVG export) with its file name, and starts reading a
+#: ``blob:`` link's content at the click, before the page revokes the URL.
+DOWNLOAD_RECORDER = """(() => {
+  const click = HTMLAnchorElement.prototype.click;
+  const downloads = [];
+  Object.defineProperty(window, "__flexrideDownloads", { value: downloads });
+  HTMLAnchorElement.prototype.click = function () {
+    if (this.hasAttribute("download")) {
+      const entry = { name: this.download, href: this.href, content: null };
+      if (this.href.startsWith("blob:") || this.href.startsWith("data:")) {
+        entry.content = fetch(this.href).then(r => r.blob()).then(b => new Promise(ok => {
+          const fr = new FileReader();
+          fr.onload = () => ok(fr.result);
+          fr.onerror = () => ok(null);
+          fr.readAsDataURL(b);
+        })).catch(() => null);
+      }
+      downloads.push(entry);
+    }
+    return click.call(this);
+  };
+})();"""
+
+
+def selected_browsers() -> list[str]:
+    """The browsers to test: ``FLEXRIDE_BROWSERS`` (comma-separated) or all of ``BROWSERS``."""
+    env = os.environ.get("FLEXRIDE_BROWSERS", "")
+    names = [n.strip().lower() for n in env.split(",") if n.strip()] or list(BROWSERS)
+    unknown = [n for n in names if n not in BROWSERS]
+    if unknown:
+        raise pytest.UsageError(
+            f"FLEXRIDE_BROWSERS: unknown {', '.join(unknown)} (known: {', '.join(BROWSERS)})"
+        )
+    return list(dict.fromkeys(names))
 
 
 def _required() -> bool:
@@ -87,21 +141,41 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
 
 
 @pytest.fixture(scope="session")
-def browser() -> Iterator[Any]:
-    """The system's headless Chromium."""
+def playwright_api() -> Iterator[Any]:
+    """A started Playwright (sync API), shared by the browsers of the session."""
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
         _unavailable("the Python package playwright is not installed")
-    path = chromium_path()
-    if path is None:
-        _unavailable("no system Chromium (apt-get install chromium)")
     with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=path, args=CHROMIUM_ARGS, headless=True)
+        yield p
+
+
+@pytest.fixture(scope="session", params=selected_browsers())
+def browser(request: pytest.FixtureRequest, playwright_api: Any) -> Iterator[Any]:
+    """The system's Chromium (headless) or Firefox (with a window on a private Xvfb display:
+    headless Firefox has no WebGL for the 3D plots); one launch per session and browser."""
+    name = request.param
+    if browser_path(name) is None:
+        _unavailable(f"no system {name} (apt-get install {BROWSERS[name]})")
+    with ExitStack() as stack:
+        display = None
+        if name == "firefox":
+            if xvfb_path() is None:
+                _unavailable("no Xvfb for Firefox (headless it has no WebGL): apt-get install xvfb")
+            display = stack.enter_context(virtual_display())
+        b = launch_browser(playwright_api, name, display=display)
+        b.flexride_name = name
         try:
             yield b
         finally:
             b.close()
+
+
+@pytest.fixture(scope="session")
+def browser_name(browser: Any) -> str:
+    """``chromium`` or ``firefox``: the browser of the running test."""
+    return browser.flexride_name
 
 
 class ConsoleLog:
@@ -123,6 +197,8 @@ class ConsoleLog:
 def browser_context(browser: Any, server: Server) -> Iterator[Any]:
     """One browser context for all tests: its HTTP cache keeps Plotly (4.6 MB) between them."""
     ctx = browser.new_context(viewport=VIEWPORT, base_url=server.url, accept_downloads=True)
+    if browser.flexride_name not in NATIVE_DOWNLOADS:
+        ctx.add_init_script(DOWNLOAD_RECORDER)
     try:
         yield ctx
     finally:
@@ -130,9 +206,13 @@ def browser_context(browser: Any, server: Server) -> Iterator[Any]:
 
 
 @pytest.fixture
-def page(browser_context: Any, request: pytest.FixtureRequest) -> Iterator[Any]:
-    """A fresh page at 1280×800 on the test server; fails the test on unexpected console errors."""
+def page(
+    browser_context: Any, browser_name: str, request: pytest.FixtureRequest
+) -> Iterator[Any]:
+    """A fresh page at 1280×800 on the test server; fails the test on unexpected console errors.
+    ``page.browser_name`` is the browser's name (``chromium`` or ``firefox``)."""
     pg = browser_context.new_page()
+    pg.browser_name = browser_name
     pg.set_default_timeout(20_000)
     log = ConsoleLog()
     pg.on("console", lambda m: log.errors.append(m.text) if m.type == "error" else None)
@@ -147,9 +227,10 @@ def page(browser_context: Any, request: pytest.FixtureRequest) -> Iterator[Any]:
 
 
 def shot(page: Any, name: str, full_page: bool = True) -> Path:
-    """Save a screenshot under tests/frontend/artifacts/."""
-    ARTIFACTS.mkdir(exist_ok=True)
-    path = ARTIFACTS / f"{name}.png"
+    """Save a screenshot under tests/frontend/artifacts/<browser>/."""
+    folder = ARTIFACTS / page.browser_name
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{name}.png"
     page.screenshot(path=str(path), full_page=full_page)
     return path
 
@@ -163,10 +244,38 @@ def wait_plot(page: Any, selector: str, timeout: float = 30_000) -> int:
     return n
 
 
+def download(page: Any, click: Callable[[], None]) -> tuple[str, bytes]:
+    """Run ``click`` (which makes the page save a file) and return the file's name and content.
+
+    Chromium: the download as Playwright sees it. Firefox: the ``<a download>`` click that
+    ``DOWNLOAD_RECORDER`` saw and the content of its link, read from the moment of the click
+    (Plotly revokes its ``blob:`` URL right after clicking).
+    """
+    if page.browser_name in NATIVE_DOWNLOADS:
+        with page.expect_download() as dl:
+            click()
+        return dl.value.suggested_filename, Path(dl.value.path()).read_bytes()
+    before = page.evaluate("() => window.__flexrideDownloads.length")
+    click()
+    page.wait_for_function(f"() => window.__flexrideDownloads.length > {before}")
+    name, content = page.evaluate(
+        "async () => { const d = window.__flexrideDownloads.at(-1);"
+        " return [d.name, await d.content]; }"
+    )
+    assert content, f"{name}: the content of its link could not be read"
+    return name, base64.b64decode(content.split(",", 1)[1])
+
+
 @pytest.fixture(name="shot")
 def shot_fixture():
-    """``shot(page, name)``: save a screenshot under tests/frontend/artifacts/."""
+    """``shot(page, name)``: save a screenshot under tests/frontend/artifacts/<browser>/."""
     return shot
+
+
+@pytest.fixture(name="download")
+def download_fixture():
+    """``download(page, click)``: the name and content of the file that ``click`` saves."""
+    return download
 
 
 @pytest.fixture(name="wait_plot")

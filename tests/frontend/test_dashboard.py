@@ -1,11 +1,13 @@
 """Browser tests of the dashboard (frontend/) against a real ``flexride serve`` with the embedded
-runner, in the system's headless Chromium: submit a short job from the form and open its
-results (every plot has data), run a small study and see its Sperling-against-speed chart, the
-server's message at an invalid field, compare, the flexible-body view, the jobs list, empty and
-error states, keyboard use; no console errors anywhere (checked by the ``page`` fixture).
+runner, in the system's headless Chromium and Firefox (every test in both): submit a short job
+from the form and open its results (every plot has data), run a small study and see its
+Sperling-against-speed chart, the server's message at an invalid field, compare, the
+flexible-body view, the jobs list, empty and error states, keyboard use; no console errors
+anywhere (checked by the ``page`` fixture).
 
-The tests run in file order and share the jobs they create (``STATE``); each creates what it
-needs when run alone. Screenshots: tests/frontend/artifacts/.
+The tests of a browser run in file order and share the jobs they create (``state``, one per
+browser); each creates what it needs when run alone. Screenshots:
+tests/frontend/artifacts/<browser>/.
 """
 
 from __future__ import annotations
@@ -13,16 +15,23 @@ from __future__ import annotations
 import json
 import math
 import re
-from pathlib import Path
 from typing import Any
+
+import pytest
 
 try:
     from playwright.sync_api import expect
 except ImportError:  # the browser fixture skips these tests (or fails them in CI)
     expect = None
 
-STATE: dict[str, Any] = {}
+STATES: dict[str, dict[str, Any]] = {}
 RUN_S = 5.5  # simulated time: the spectral Sperling index needs at least 5 s
+
+
+@pytest.fixture
+def state(browser_name: str) -> dict[str, Any]:
+    """What the earlier tests in this browser created (job, study, the study's jobs)."""
+    return STATES.setdefault(browser_name, {})
 
 
 def goto(page: Any, route: str) -> None:
@@ -116,7 +125,9 @@ def test_yaml_editor_reads_a_preset_based_file(page, server):
 # -- new job: submit, follow, results -----------------------------------------------------------
 
 
-def test_submit_job_from_form_and_see_every_result(page, server, shot, wait_plot):
+def test_submit_job_from_form_and_see_every_result(
+    page, state, server, shot, wait_plot, download
+):
     goto(page, "/new?preset=paper-random-straight-80")
     page.fill("#f-name", "ui-job")
     page.fill("#f-duration_s", str(RUN_S))
@@ -126,7 +137,7 @@ def test_submit_job_from_form_and_see_every_result(page, server, shot, wait_plot
     page.click("#submit-job")
     page.wait_for_url(re.compile(r"#/jobs/[0-9a-f]+$"))
     job_id = page.url.rsplit("/", 1)[-1]
-    STATE["job"] = job_id
+    state["job"] = job_id
     # live progress while it runs, then the results (first job: numba compiles the kernels)
     page.wait_for_selector("#summary-cards", timeout=150_000)
     assert "succeeded" in page.locator("h1").inner_text()
@@ -151,13 +162,14 @@ def test_submit_job_from_form_and_see_every_result(page, server, shot, wait_plot
     )
     assert 0 < wait_plot(page, "#plot-time") <= n_full
     # CSV of the plotted data and PNG export
-    with page.expect_download() as dl:
-        page.locator("#plot-time").get_by_role("button", name="CSV", exact=True).click()
-    csv = Path(dl.value.path()).read_text()
-    assert csv.startswith("series,time (s),value,unit") and csv.count("\n") > 100
-    with page.expect_download() as dl:
-        page.locator("#plot-time").get_by_role("button", name="PNG", exact=True).click()
-    assert dl.value.suggested_filename.endswith(".png")
+    time_plot = page.locator("#plot-time")
+    name, csv = download(page, time_plot.get_by_role("button", name="CSV", exact=True).click)
+    assert name.endswith(".csv")
+    text = csv.decode()
+    assert text.startswith("series,time (s),value,unit") and text.count("\n") > 100
+    name, png = download(page, time_plot.get_by_role("button", name="PNG", exact=True).click)
+    assert name.endswith(".png")
+    assert png.startswith(b"\x89PNG\r\n\x1a\n")
 
     page.get_by_role("tab", name="Spectra").click()
     wait_plot(page, "#plot-spectrum")
@@ -167,9 +179,11 @@ def test_submit_job_from_form_and_see_every_result(page, server, shot, wait_plot
         "#plot-spectrum .plot", "e => (e.layout.annotations || []).length"
     )
     assert n_ann > 0, "dominant peaks are labelled"
-    with page.expect_download() as dl:
-        page.locator("#plot-psd").get_by_role("button", name="SVG", exact=True).click()
-    assert dl.value.suggested_filename.endswith(".svg")
+    name, svg = download(
+        page, page.locator("#plot-psd").get_by_role("button", name="SVG", exact=True).click
+    )
+    assert name.endswith(".svg")
+    assert b"<svg" in svg[:200]
     shot(page, "05-job-spectra")
 
     page.get_by_role("tab", name="Spectrogram").click()
@@ -224,8 +238,8 @@ def test_failed_job_shows_its_reason(page, server, shot):
 # -- jobs list ------------------------------------------------------------------------------------
 
 
-def test_jobs_list_filters_and_follows_progress(page, server, shot):
-    job_id = STATE.get("job") or finished_job(server)
+def test_jobs_list_filters_and_follows_progress(page, state, server, shot):
+    job_id = state.get("job") or finished_job(server)
     goto(page, "/")
     row = page.locator(f'#jobs-table tr[data-id="{job_id}"]')
     row.wait_for()
@@ -279,7 +293,7 @@ def test_study_presets_fill_the_form_and_count_jobs(page, server):
     assert "outside the allowed range" in page.locator("#study-speeds-err").inner_text()
 
 
-def test_small_study_shows_sperling_against_speed(page, server, shot, wait_plot):
+def test_small_study_shows_sperling_against_speed(page, state, server, shot, wait_plot):
     goto(page, "/studies/new")
     page.fill("#study-name", "ui-study")
     page.select_option("#study-base", "paper-random-straight-80")
@@ -289,7 +303,7 @@ def test_small_study_shows_sperling_against_speed(page, server, shot, wait_plot)
     shot(page, "11-new-study", full_page=False)
     page.click("#submit-study")
     page.wait_for_url(re.compile(r"#/studies/[0-9a-f]+$"))
-    STATE["study"] = page.url.rsplit("/", 1)[-1]
+    state["study"] = page.url.rsplit("/", 1)[-1]
     page.locator(".page-head .badge.st-succeeded").wait_for(timeout=120_000)
     n = wait_plot(page, "#plot-sperling-speed")
     assert n >= 2 * 6, "two speeds at six points"
@@ -304,7 +318,7 @@ def test_small_study_shows_sperling_against_speed(page, server, shot, wait_plot)
     page.get_by_role("tab", name="Jobs and indices").click()
     rows = page.locator("#panel-jobs table.data tbody tr")
     assert rows.count() == 2
-    STATE["study_jobs"] = [
+    state["study_jobs"] = [
         h.split("/")[-1]
         for h in rows.locator("a").evaluate_all("as => as.map(a => a.getAttribute('href'))")
     ]
@@ -318,8 +332,8 @@ def test_small_study_shows_sperling_against_speed(page, server, shot, wait_plot)
 # -- compare --------------------------------------------------------------------------------------
 
 
-def test_compare_overlays_jobs_in_time_and_frequency(page, server, shot, wait_plot):
-    jobs = STATE.get("study_jobs") or [
+def test_compare_overlays_jobs_in_time_and_frequency(page, state, server, shot, wait_plot):
+    jobs = state.get("study_jobs") or [
         finished_job(server, speed_kmh=60),
         finished_job(server, speed_kmh=80),
     ]
@@ -390,28 +404,39 @@ def _tube_mesh() -> dict:
     }
 
 
-#: A coarse car body (0.5 m elements, 868 nodes): built in a few seconds, long enough to see the
-#: view's "building" state (the server answers 202 after waiting 3 s for a build).
-COARSE = 0.5
+#: Element size (m) of a coarse car body per browser (0.5 m: 868 nodes, 0.45 m: 1198 nodes), built
+#: in a few seconds, long enough to see the view's "building" state (the server answers 202
+#: after waiting 3 s for a build). Each browser gets its own: the server serves a model that the
+#: other browser's tests built at once, without that state.
+COARSE = {"chromium": 0.5, "firefox": 0.45}
 
 
-def test_flexible_body_view_builds_and_draws_the_car_body(page, server, shot, wait_plot):
-    goto(page, f"/flex?element_size_m={COARSE}")
+@pytest.fixture
+def coarse(browser_name: str) -> float:
+    """The element size (m) of the coarse car body this browser's tests build."""
+    return COARSE[browser_name]
+
+
+def test_flexible_body_view_builds_and_draws_the_car_body(page, server, shot, wait_plot, coarse):
+    goto(page, f"/flex?element_size_m={coarse}")
     # the server builds the model (202): the view says so and asks again
     building = page.locator("#fe-building")
     building.wait_for(timeout=30_000)
     assert "Building the FE model" in page.locator("main").inner_text()
     assert "first time only" in page.locator("main").inner_text()
     n = wait_plot(page, "#plot-mesh", timeout=180_000)
-    exported = server.api(f"/fe/carbody?element_size_m={COARSE}")
+    # drawn with WebGL (where a browser has none, Plotly shows its "not supported" box instead)
+    assert page.locator("#plot-mesh .no-webgl").count() == 0, "no WebGL in this browser"
+    assert page.locator("#plot-mesh .gl-container canvas").count() >= 1
+    exported = server.api(f"/fe/carbody?element_size_m={coarse}")
     assert n >= len(exported["nodes"]) > 100
     modes = page.locator(".mode-list button")
     assert modes.count() == len(exported["modes"]) == 12
     f1 = exported["modes"][0]["frequency_hz"]
     assert f"{f1:.3g}" in modes.first.inner_text() and "Hz" in modes.first.inner_text()
     info = page.locator("#fe-model-info").inner_text()
-    assert "modal reduction" in info and f"element size {COARSE} m" in info
-    assert page.locator("#fe-element-size").input_value() == str(COARSE)
+    assert "modal reduction" in info and f"element size {coarse} m" in info
+    assert page.locator("#fe-element-size").input_value() == str(coarse)
     assert not building.is_visible()
     modes.nth(1).click()
     assert "Mode 2:" in page.locator("#plot-mesh .plot-note").inner_text()
@@ -421,7 +446,7 @@ def test_flexible_body_view_builds_and_draws_the_car_body(page, server, shot, wa
 def test_flexible_body_of_a_job_is_that_jobs_model(page, server, wait_plot):
     job = server.api("/jobs", {"preset": "paper-random-straight-80", "reuse": False, "overrides": {
         "duration_s": 0.5, "distance_m": None, "bodies.carbody.model": "flexible",
-        "bodies.carbody.element_size_m": COARSE, "bodies.carbody.cutoff_hz": 30.0}})
+        "bodies.carbody.element_size_m": 0.5, "bodies.carbody.cutoff_hz": 30.0}})
     goto(page, f"/flex?job={job['id']}")
     wait_plot(page, "#plot-mesh", timeout=180_000)
     info = page.locator("#fe-model-info").inner_text()
@@ -432,11 +457,13 @@ def test_flexible_body_of_a_job_is_that_jobs_model(page, server, wait_plot):
     assert server.wait_job(job["id"], timeout=240)["status"] == "succeeded"
 
 
-def test_flexible_body_mesh_file_and_comfort_map(page, server, shot, wait_plot, tmp_path):
-    job_id = STATE.get("job") or finished_job(server, **{"output.floor_grid_spacing_m": 2.0})
+def test_flexible_body_mesh_file_and_comfort_map(
+    page, state, server, shot, wait_plot, tmp_path, coarse
+):
+    job_id = state.get("job") or finished_job(server, **{"output.floor_grid_spacing_m": 2.0})
     mesh = tmp_path / "tube.json"
     mesh.write_text(json.dumps(_tube_mesh()))
-    goto(page, f"/flex?job={job_id}&element_size_m={COARSE}")
+    goto(page, f"/flex?job={job_id}&element_size_m={coarse}")
     wait_plot(page, "#plot-mesh", timeout=180_000)  # the service's model first
     assert "models the car body as rigid" in page.locator("#fe-model-info").inner_text()
     # a mesh file replaces it
@@ -511,10 +538,10 @@ def test_keyboard_navigation(page, server):
     assert unlabeled == []
 
 
-def test_views_fit_a_laptop_screen(page, server):
+def test_views_fit_a_laptop_screen(page, server, coarse):
     page.set_viewport_size({"width": 1280, "height": 800})
     # (a coarse car body on /flex: the one the flexible-body tests built)
-    for route in ["/", "/new", "/studies/new", "/compare", f"/flex?element_size_m={COARSE}"]:
+    for route in ["/", "/new", "/studies/new", "/compare", f"/flex?element_size_m={coarse}"]:
         goto(page, route)
         page.wait_for_selector("h1")
         page.wait_for_timeout(150)
