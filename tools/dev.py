@@ -24,8 +24,15 @@ VENV = Path(os.environ.get("FLEXRIDE_VENV", ROOT / ".venv"))
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 
 
+#: Test-only packages installed without their dependencies: ansys-mapdl-reader's .full reader
+#: needs only NumPy/SciPy, but its package metadata would pull pyvista and VTK (~725 MB).
+NO_DEPS_TEST_PACKAGES = ("ansys-mapdl-reader==0.56.0",)
+
+
 def _stamp_key(extras: str) -> str:
     text = (ROOT / "pyproject.toml").read_bytes() + extras.encode()
+    if extras == "dev":
+        text += " ".join(NO_DEPS_TEST_PACKAGES).encode()
     return hashlib.sha256(text).hexdigest()
 
 
@@ -42,6 +49,9 @@ def ensure_venv(extras: str = "") -> None:
     subprocess.run([py, "-m", "pip", "install", "-q", "--upgrade", "pip"], check=True)
     target = f".[{extras}]" if extras else "."
     subprocess.run([py, "-m", "pip", "install", "-q", "-e", target], check=True, cwd=ROOT)
+    if extras == "dev":
+        subprocess.run([py, "-m", "pip", "install", "-q", "--no-deps", *NO_DEPS_TEST_PACKAGES],
+                       check=True, cwd=ROOT)
     stamp.write_text(key)
 
 
