@@ -8,7 +8,8 @@ Public entry points:
 * :func:`flexride.fem.carbody.build_carbody`, :func:`flexride.fem.frame.build_frame` — the
   parametric FE models;
 * :mod:`flexride.fem.reduction` — Guyan, Craig–Bampton and modal truncation;
-* :mod:`flexride.fem.importers` — external M and K (MatrixMarket, Harwell–Boeing, OP4);
+* :mod:`flexride.fem.importers` — external M and K (MatrixMarket, ANSYS HBMAT and .full, Nastran
+  DMIG and OP4);
 * :mod:`flexride.fem.calibration` — model updating against target frequencies.
 
 pyfe3d is used only inside :mod:`flexride.fem.pyfe3d_adapter`. Nothing here is imported by
