@@ -219,3 +219,22 @@ def test_a_jobs_own_flexible_body(make_client):
     r = client.get(f"{API}/jobs/{job}/fe/frame")
     assert r.status_code == 409 and "rigid" in r.json()["message"]
     assert client.get(f"{API}/jobs/{'f' * 32}/fe/carbody").status_code == 404
+
+
+def test_starting_a_build_needs_the_token_serving_a_built_model_does_not(make_client):
+    """With an API token, a GET that would start an FE build (minutes of CPU) is refused
+    without the token (401); with it the build starts (202); once built, reads stay open."""
+    client = make_client(api_token="s3cret")
+    fe = use_fe_builds(client, wait_s=5.0)
+    params = {"element_size_m": 0.5}
+    r = client.get(f"{API}/fe/carbody", params=params)
+    assert r.status_code == 401 and "API token" in r.json()["message"]
+    assert fe.builds_started == 0
+    auth = {"Authorization": "Bearer s3cret"}
+    r = client.get(f"{API}/fe/carbody", params=params, headers=auth)
+    assert r.status_code in (200, 202) and fe.builds_started == 1
+    _, r = _poll(client, f"{API}/fe/carbody", params, timeout=30)
+    assert r.status_code == 200  # without the token: the model exists now
+    r = client.get(f"{API}/fe/carbody", params=params,
+                   headers={"Authorization": "Bearer wrong"})
+    assert r.status_code == 200

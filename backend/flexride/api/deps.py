@@ -43,18 +43,30 @@ _bearer = HTTPBearer(
 )
 
 
+def token_ok(
+    request: Request,
+    credentials: Annotated[HTTPAuthorizationCredentials | None, Security(_bearer)] = None,
+) -> bool:
+    """Whether the request may change things: the service has no token, or the request carries
+    it as ``Authorization: Bearer <token>``."""
+    token = get_services(request).settings.api_token
+    if not token:
+        return True
+    given = credentials.credentials if credentials is not None else ""
+    return secrets.compare_digest(given.encode(), token.encode())
+
+
 def require_token(
     request: Request,
     credentials: Annotated[HTTPAuthorizationCredentials | None, Security(_bearer)] = None,
 ) -> None:
     """Check ``Authorization: Bearer <token>`` when the service has a token (401 otherwise)."""
-    token = get_services(request).settings.api_token
-    if not token:
-        return
-    given = credentials.credentials if credentials is not None else ""
-    if not secrets.compare_digest(given.encode(), token.encode()):
+    if not token_ok(request, credentials):
         raise HTTPException(status_code=401, detail="a valid bearer token is required",
                             headers={"WWW-Authenticate": "Bearer"})
+
+
+TokenOk = Annotated[bool, Depends(token_ok)]
 
 
 AUTH = [Depends(require_token)]

@@ -6,7 +6,7 @@ from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Path, Query, Response
 
-from flexride.api.deps import ServicesDep
+from flexride.api.deps import ServicesDep, TokenOk
 from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport
 from flexride.api.services import fe as svc_fe
 from flexride.fe_export import DEFAULT_MAX_MODES, ExportSpec
@@ -43,6 +43,8 @@ RESPONSES: dict[int | str, dict[str, Any]] = {
     422: {"model": ErrorResponse,
           "description": "Invalid parameter (field path, allowed range), or parameters that "
           "give no FE model"},
+    401: {"model": ErrorResponse, "description": "The model is not built yet and starting its "
+          "build needs the API token (when the service has one)"},
     503: {"model": ErrorResponse, "description": "The build failed or too many are queued; "
           "ask again after Retry-After s"},
 }
@@ -53,6 +55,7 @@ RESPONSES: dict[int | str, dict[str, Any]] = {
 def fe_model(
     kind: Kind,
     svc: ServicesDep,
+    may_build: TokenOk,
     element_size_m: Annotated[float, _body_query("element_size_m")] = _DEFAULT.element_size_m,
     cutoff_hz: Annotated[float, _body_query("cutoff_hz")] = _DEFAULT.cutoff_hz,
     reduction: Annotated[Reduction, _body_query("reduction")] = _DEFAULT.reduction,  # type: ignore
@@ -72,16 +75,17 @@ def fe_model(
     body = BodyModel(model="flexible", reduction=reduction, cutoff_hz=cutoff_hz,
                      element_size_m=element_size_m)
     spec = ExportSpec.create(kind, svc_fe.preset_vehicle(preset), body, max_modes)
-    return svc_fe.respond(svc.fe, spec)
+    return svc_fe.respond(svc.fe, spec, may_start=may_build)
 
 
 @router.get("/jobs/{job_id}/fe/{kind}", response_model=None,
             responses={**RESPONSES, 409: {"model": ErrorResponse,
                                           "description": "The job models this body as rigid"}},
             summary="FE mesh and mode shapes of a job's flexible body")
-def job_fe_model(job_id: JobId, kind: Kind, svc: ServicesDep,
+def job_fe_model(job_id: JobId, kind: Kind, svc: ServicesDep, may_build: TokenOk,
                  max_modes: MaxModes = DEFAULT_MAX_MODES) -> Response:
     """The FE model of a job's flexible car body (``kind=carbody``) or bogie frames
     (``kind=frame``): its own vehicle and ``bodies`` settings, in any job state. Answers as
     ``GET /fe/{kind}`` (200, 202 while building); 409 when the job's body is rigid."""
-    return svc_fe.respond(svc.fe, svc_fe.job_spec(svc, job_id, kind, max_modes))
+    return svc_fe.respond(svc.fe, svc_fe.job_spec(svc, job_id, kind, max_modes),
+                          may_start=may_build)

@@ -140,7 +140,8 @@ class FEBuilds:
         """The export file of ``key``."""
         return self.export_dir / f"{key}.json"
 
-    def state(self, spec: ExportSpec, wait_s: float | None = None) -> FEState:
+    def state(self, spec: ExportSpec, wait_s: float | None = None,
+              may_start: bool = True) -> FEState:
         """The state of ``spec``'s export, starting its build if needed and waiting up to
         ``wait_s`` (default :attr:`wait_s`, s) for it to finish.
 
@@ -150,6 +151,9 @@ class FEBuilds:
             The export wanted.
         wait_s : float, optional
             Seconds to wait for a running build.
+        may_start : bool
+            Whether a new build may be started (the caller holds the API token, if any);
+            otherwise an export that is neither ready nor being built is ``unauthorized``.
 
         Returns
         -------
@@ -165,6 +169,11 @@ class FEBuilds:
                 return failed
             pending = self._pending.get(key)
             if pending is None:
+                if not may_start:
+                    return FEState("failed", key, error=(
+                        "building a new FE model needs the API token (Authorization: Bearer "
+                        "<token>); models already built are served without it"),
+                        error_type="Unauthorized")
                 if self._stopped:
                     return FEState("failed", key, error="the service is stopping",
                                    error_type="Stopping", retry_after_s=30)
@@ -313,14 +322,18 @@ def job_spec(svc: Any, job_id: str, kind: str, max_modes: int) -> ExportSpec:
     return ExportSpec.create(kind, scenario.vehicle, body, max_modes)
 
 
-def respond(builds: FEBuilds, spec: ExportSpec) -> Response:
-    """The HTTP answer for ``spec``: 200 with the export, 202 while it is built, 422 when the
-    parameters give no FE model, 503 when the build failed or too many are queued."""
-    st = builds.state(spec)
+def respond(builds: FEBuilds, spec: ExportSpec, may_start: bool = True) -> Response:
+    """The HTTP answer for ``spec``: 200 with the export, 202 while it is built, 401 when a
+    build would start without the API token, 422 when the parameters give no FE model, 503
+    when the build failed or too many are queued."""
+    st = builds.state(spec, may_start=may_start)
     if st.status == "ready" and st.path is not None:
         return FileResponse(st.path, media_type="application/json",
                             headers={"Cache-Control": "no-cache"})
     retry = {"Retry-After": str(st.retry_after_s), "Cache-Control": "no-store"}
+    if st.status == "failed" and st.error_type == "Unauthorized":
+        return SafeJSONResponse(status_code=401, headers={"WWW-Authenticate": "Bearer"},
+                                content={"detail": st.error, "message": st.error})
     if st.status == "failed":
         msg = st.error or "the FE build failed"
         if st.model_error:
