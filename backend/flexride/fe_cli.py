@@ -235,7 +235,8 @@ def export_cmd(
         "-"
     ),
     method: Annotated[str, typer.Option("--method")] = "modal",
-    cutoff: Annotated[float, typer.Option("--cutoff")] = 30.0,
+    cutoff: Annotated[float, typer.Option(
+        "--cutoff", help="Cut-off frequency (Hz); the default is a scenario body's.")] = 40.0,
     n_modes: Annotated[int, typer.Option("--n-modes", min=0, max=500)] = 12,
     element_size: SizeOpt = 0.2,
     preset: PresetOpt = "paper-metro",
