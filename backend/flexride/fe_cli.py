@@ -47,6 +47,24 @@ def _vehicle(preset: str):
     return load_preset(preset).vehicle
 
 
+def _build_body(kind: str, preset: str, method: str, cutoff: float, element_size: float,
+                use_cache: bool = True):
+    """The reduced default body for the ``reduce`` and ``export`` commands: options checked
+    first, any flexride error as one line and a non-zero exit."""
+    try:
+        from flexride.fem.flexible import METHODS, build_flexible_body
+
+        if method not in METHODS:
+            _fail(f"unknown method {method!r}: use one of {', '.join(METHODS)}")
+        if not (cutoff > 0 and np.isfinite(cutoff)):
+            _fail(f"--cutoff must be a positive frequency in Hz, got {cutoff}")
+        return build_flexible_body(_kind(kind), _vehicle(preset), method=method,
+                                   cutoff_hz=cutoff, element_size=element_size, name=kind,
+                                   use_cache=use_cache)
+    except FlexrideError as exc:
+        _fail(str(exc))
+
+
 def _kind(kind: str) -> str:
     if kind not in ("carbody", "frame"):
         _fail(f"unknown body {kind!r}: use carbody or frame")
@@ -142,24 +160,7 @@ def reduce_cmd(
     ] = False,
 ) -> None:
     """Reduce a default model and print the reduction report."""
-    try:
-        from flexride.fem.flexible import METHODS, build_flexible_body
-
-        if method not in METHODS:
-            _fail(f"unknown method {method!r}: use one of {', '.join(METHODS)}")
-        if not (cutoff > 0 and np.isfinite(cutoff)):
-            _fail(f"--cutoff must be a positive frequency in Hz, got {cutoff}")
-        fb = build_flexible_body(
-            _kind(kind),
-            _vehicle(preset),
-            method=method,
-            cutoff_hz=cutoff,
-            element_size=element_size,
-            name=kind,
-            use_cache=not no_cache,
-        )
-    except FlexrideError as exc:
-        _fail(str(exc))
+    fb = _build_body(kind, preset, method, cutoff, element_size, use_cache=not no_cache)
     if as_json:
         d = fb.report.to_dict()
         d["build_seconds"] = fb.build_seconds
@@ -242,19 +243,7 @@ def export_cmd(
     preset: PresetOpt = "paper-metro",
 ) -> None:
     """Mesh and mode shapes as JSON for a browser."""
-    try:
-        from flexride.fem.flexible import build_flexible_body
-
-        fb = build_flexible_body(
-            _kind(kind),
-            _vehicle(preset),
-            method=method,
-            cutoff_hz=cutoff,
-            element_size=element_size,
-            name=kind,
-        )
-    except FlexrideError as exc:
-        _fail(str(exc))
+    fb = _build_body(kind, preset, method, cutoff, element_size)
     text = json.dumps(fb.export(max_modes=n_modes))
     if str(out) == "-":
         sys.stdout.write(text + "\n")
