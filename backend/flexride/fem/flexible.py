@@ -131,16 +131,21 @@ class FlexibleBody:
         )
 
 
+def _inertia_target(body) -> InertiaTarget:
+    """Mass, CG (on the centre line, at the body's CG height) and Ixx/Iyy/Izz of a body's
+    parameters (kg, m, kg·m²)."""
+    return InertiaTarget(body.mass, np.array([0.0, 0.0, body.cg_height]),
+                         np.array([body.ixx, body.iyy, body.izz]))
+
+
 def carbody_target(vehicle) -> InertiaTarget:
     """Inertia target of the car body from the vehicle parameters (CG on the centre line)."""
-    c = vehicle.carbody
-    return InertiaTarget(c.mass, np.array([0.0, 0.0, c.cg_height]), np.array([c.ixx, c.iyy, c.izz]))
+    return _inertia_target(vehicle.carbody)
 
 
 def frame_target(vehicle) -> InertiaTarget:
     """Inertia target of one bogie frame from the vehicle parameters."""
-    f = vehicle.frame
-    return InertiaTarget(f.mass, np.array([0.0, 0.0, f.cg_height]), np.array([f.ixx, f.iyy, f.izz]))
+    return _inertia_target(vehicle.frame)
 
 
 def carbody_params_for(vehicle, base: CarBodyParams | None = None) -> CarBodyParams:
