@@ -89,8 +89,8 @@ def _shell_commands(block: str):
             yield words
 
 
-def _curl(words: list[str]) -> tuple[str, str, str | None]:
-    """(method, URL, body) of a curl command line."""
+def _curl(words: list[str], files: Path) -> tuple[str, str, str | bytes | None]:
+    """(method, URL, body) of a curl command line (``--data-binary @name`` from ``files``)."""
     method, url, body = "GET", None, None
     it = iter(words[1:])
     for w in it:
@@ -99,6 +99,8 @@ def _curl(words: list[str]) -> tuple[str, str, str | None]:
         elif w in ("-d", "-H"):
             value = next(it)
             body = value if w == "-d" else body
+        elif w == "--data-binary":
+            body = (files / next(it).lstrip("@")).read_bytes()
         elif any(w.startswith(b) for b in _BASE):
             url = w
     assert url is not None, words
@@ -130,15 +132,20 @@ def test_curl_examples_in_the_docs_run_against_the_api(tmp_path):
     res.scenario = load_preset("paper-metro", {"bodies.carbody.model": "flexible"}).model_dump(
         mode="json")
     finished = insert_finished_job(svc.store, svc.files, res)
-    ids = {"job": None, "study": None}
+    ids: dict[str, str | None] = {"job": None, "study": None, "upload": None}
     ran = 0
     with TestClient(app, raise_server_exceptions=False) as client:
         for path in DOCS:
             for block in _doc_blocks(path, "bash"):
                 for words in _shell_commands(block):
+                    if words[:1] == ["printf"] and words[-2] == ">":  # a file for --data-binary
+                        text = words[1].encode().decode("unicode_escape")
+                        (tmp_path / words[-1]).write_text(text)
                     if words[0] != "curl":
                         continue
-                    method, url, body = _curl(words)
+                    method, url, body = _curl(words, tmp_path)
+                    if isinstance(body, str):
+                        body = body.replace('"UPLOAD"', json.dumps(ids["upload"]))
                     for base in _BASE:
                         url = url.replace(base, "/api/v1")
                     job = finished if method == "GET" else ids["job"]
@@ -149,6 +156,8 @@ def test_curl_examples_in_the_docs_run_against_the_api(tmp_path):
                     assert r.status_code in (200, 201, 202, 204), (path.name, words, r.text)
                     if method == "POST" and url.endswith(("/jobs", "/studies")):
                         ids["job" if url.endswith("/jobs") else "study"] = r.json()["id"]
+                    if method == "POST" and url.endswith("/irregularities"):
+                        ids["upload"] = r.json()["id"]
                     ran += 1
         # the error example of docs/service.md is what the API answers
         (example,) = _doc_blocks(README.parent / "docs" / "service.md", "json")

@@ -109,10 +109,23 @@ def test_unknown_keys_are_rejected():
     assert "depth" in str(info.value)
 
 
-def test_measured_requires_a_path():
+@pytest.mark.parametrize("kwargs", [
+    {},
+    {"path": "a.csv", "upload": "0" * 64},
+    {"path": "a.csv", "columns": ["distance_m", "vertical"], "rows": [[0, 0], [1, 0]]},
+    {"rows": [[0, 0], [1, 0]]},
+    {"upload": "0" * 64, "columns": ["distance_m", "vertical"]},
+])
+def test_measured_needs_exactly_one_source(kwargs):
+    with pytest.raises(ValidationError, match=r"exactly one way|need 'columns'"):
+        MeasuredIrregularity(**kwargs)
+
+
+@pytest.mark.parametrize("upload", ["../../etc/passwd", "A" * 64, "0" * 63, "/tmp/x.csv"])
+def test_measured_upload_must_be_a_content_hash(upload):
     with pytest.raises(ValidationError) as info:
-        MeasuredIrregularity()
-    assert info.value.errors()[0]["loc"] == ("path",)
+        MeasuredIrregularity(upload=upload)
+    assert info.value.errors()[0]["loc"] == ("upload",)
 
 
 @pytest.mark.parametrize(

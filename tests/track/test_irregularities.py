@@ -399,7 +399,7 @@ def test_measured_component_columns(tmp_path):
         ("# only a comment\n\n", ["empty"]),
         ("s,vertical\n0,0\n1,0\n", ["line 1", "distance_m", "missing"]),
         ("distance_m,speed\n0,1\n1,2\n", ["line 1", "no irregularity column"]),
-        ("distance_m,vertical\n0,0.001\n1,abc\n2,0\n", ["line 3", "'vertical'", "abc"]),
+        ("distance_m,vertical\n0,0.001\n1,abc\n2,0\n", ["line 3", "'vertical'", "not a number"]),
         ("distance_m,vertical\n0,0.001\n1,\n2,0\n", ["line 3", "'vertical'", "empty"]),
         ("distance_m,vertical\n0,0.001\n1,nan\n2,0\n", ["line 3", "'vertical'", "finite"]),
         ("distance_m,vertical\n0,0\n2,0\n1,0\n", ["line 4", "'distance_m'", "increasing"]),
@@ -415,6 +415,7 @@ def test_measured_malformed_files_raise_scenario_error(tmp_path, text, needles):
         measured_profile(path)
     msg = str(info.value)
     assert "bad_track.csv" in msg
+    assert str(tmp_path) not in msg and "abc" not in msg  # no directory, no cell text
     for needle in needles:
         assert needle in msg, (needle, msg)
 

@@ -14,6 +14,7 @@ from flexride.jobs.base import JobRunner
 from flexride.jobs.reaper import Reaper
 from flexride.settings import Settings
 from flexride.store import JobStore, ResultFiles
+from flexride.store.uploads import UploadStore
 from flexride.study.submit import Submitter
 
 
@@ -28,6 +29,7 @@ class Services:
     submitter: Submitter
     reaper: Reaper
     fe: FEBuilds
+    uploads: UploadStore
 
 
 def get_services(request: Request) -> Services:

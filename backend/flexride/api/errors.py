@@ -5,6 +5,9 @@
   input) → 422 with one item per problem (``loc`` = field path, ``msg`` with the allowed range);
 * request validation → 422 in the same shape (``loc`` = ``["query", name]`` etc., ``msg`` with the
   violated bound as ``(allowed: ≤ 500)``); :class:`NotFound` → 404; :class:`Conflict` → 409;
+* storage faults (:class:`~flexride.errors.StorageError`, a database that refuses writes or
+  cannot be reached, a read-only or full disk) → 503 ``storage unavailable: <reason>`` with
+  ``Retry-After``, the reason without server paths (:mod:`flexride.store.probe`);
 * anything else → 500 with a JSON body (and the traceback in the log).
 
 Responses are JSON without NaN (non-finite numbers become null).
@@ -16,14 +19,17 @@ import json
 import logging
 import math
 import re
+import time
 from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from sqlalchemy.exc import DataError, DBAPIError, IntegrityError, ProgrammingError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from flexride.errors import FlexrideError, ResultsFileError, StabilityError
+from flexride.errors import FlexrideError, ResultsFileError, StabilityError, StorageError
+from flexride.store.probe import db_fault, is_storage_oserror, os_fault
 
 log = logging.getLogger(__name__)
 
@@ -88,7 +94,17 @@ def _error(status: int, detail: Any, message: str | None = None, **extra: Any) -
     return SafeJSONResponse(status_code=status, content=body)
 
 
-async def _flexride_error(_request: Request, exc: Exception) -> JSONResponse:
+def recent_storage_fault(app: FastAPI) -> str | None:
+    """The reason of a write that failed within ``STORAGE_FAULT_MEMORY_S``, if any."""
+    fault = getattr(app.state, "storage_fault", None)
+    if fault is None or time.monotonic() - fault[0] > STORAGE_FAULT_MEMORY_S:
+        return None
+    return f"a write failed {time.monotonic() - fault[0]:.0f} s ago: {fault[1]}"
+
+
+async def _flexride_error(request: Request, exc: Exception) -> JSONResponse:
+    if isinstance(exc, StorageError):
+        return _unavailable(request, str(exc))
     if isinstance(exc, StabilityError):
         item = {"loc": ["scenario", "solver", "dt"], "msg": str(exc), "type": "stability",
                 "ctx": {"dt": exc.dt, "dt_max": exc.dt_max, "dt_suggested": exc.dt_suggested}}
@@ -96,6 +112,10 @@ async def _flexride_error(_request: Request, exc: Exception) -> JSONResponse:
     if isinstance(exc, ResultsFileError):
         return _error(404, str(exc), str(exc))
     kind = type(exc).__name__
+    located = getattr(exc, "items", ())
+    if located:
+        items = [{"loc": list(it.loc), "msg": it.msg, "type": kind} for it in located]
+        return _error(422, items, str(exc))
     return _error(422, error_items(str(exc), kind), str(exc))
 
 
@@ -139,6 +159,33 @@ async def _http_error(_request: Request, exc: Exception) -> JSONResponse:
                             headers=getattr(exc, "headers", None))
 
 
+STORAGE_FAULT_MEMORY_S = 60.0
+"""Seconds after a failed write during which health reports the storage as not writable."""
+
+
+def _unavailable(request: Request, reason: str) -> JSONResponse:
+    request.app.state.storage_fault = (time.monotonic(), reason)
+    msg = f"storage unavailable: {reason}"
+    return SafeJSONResponse(status_code=503, headers={"Retry-After": "30"},
+                            content={"detail": msg, "message": msg})
+
+
+async def _database_error(request: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, DBAPIError)
+    if isinstance(exc, IntegrityError | DataError | ProgrammingError):
+        return await _internal_error(request, exc)
+    log.error("database error on %s %s: %s", request.method, request.url.path, exc)
+    return _unavailable(request, db_fault(exc))
+
+
+async def _os_error(request: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, OSError)
+    if not is_storage_oserror(exc):
+        return await _internal_error(request, exc)
+    log.error("storage error on %s %s: %s", request.method, request.url.path, exc)
+    return _unavailable(request, os_fault(exc))
+
+
 async def _internal_error(request: Request, exc: Exception) -> JSONResponse:
     log.exception("internal error on %s %s", request.method, request.url.path, exc_info=exc)
     return _error(500, f"internal error ({type(exc).__name__}); see the service log",
@@ -152,6 +199,8 @@ def install_error_handlers(app: FastAPI) -> None:
     app.add_exception_handler(NotFound, _not_found)
     app.add_exception_handler(Conflict, _conflict)
     app.add_exception_handler(StarletteHTTPException, _http_error)
+    app.add_exception_handler(DBAPIError, _database_error)
+    app.add_exception_handler(OSError, _os_error)
     app.add_exception_handler(Exception, _internal_error)
 
 

@@ -8,7 +8,8 @@ field (a pydantic discriminated union, :data:`Excitation`):
                    track spectra (DESIGN §6), band-limited in wavelength.
 ``"corrugation"``  :class:`Corrugation` — continuous sinusoidal short-wave excitation.
 ``"settlement"``   :class:`Settlement` — a single cosine dip (long-wave excitation).
-``"measured"``     :class:`MeasuredIrregularity` — irregularities read from a CSV file.
+``"measured"``     :class:`MeasuredIrregularity` — measured irregularities: a CSV file, an
+                   uploaded CSV (service) or rows given inline.
 
 Conventions (DESIGN §4): SI units, x along the track, y to the left, z up. Vertical rail
 irregularities are positive upwards, lateral ones positive to the left (so a positive gauge
@@ -149,12 +150,22 @@ class Settlement(Schema):
 
 
 class MeasuredIrregularity(Schema):
-    """Irregularities read from a CSV file (e.g. a track recording).
+    """Measured irregularities (e.g. a track recording): a CSV file, an uploaded CSV or rows.
 
-    File format: comma separated, one header row naming the columns, then one row per
+    Give the data in exactly one way:
+
+    * ``path``: a CSV file on the machine that runs the simulation (CLI and library; refused
+      by the service's API, where a request never names a server file);
+    * ``upload``: the id (SHA-256 of the content) of a CSV uploaded to the service with
+      ``POST /api/v1/irregularities``;
+    * ``columns`` and ``rows``: the same table inline, column names and one row of values per
+      measurement point.
+
+    CSV format: comma separated, UTF-8, one header row naming the columns, then one row per
     measurement point. Blank lines and lines starting with ``#`` are ignored. Columns:
 
-    * the distance column (``distance_column``, m along the line), strictly increasing;
+    * the distance column (``distance_column``, m along the line), strictly increasing, with a
+      median spacing of at least 1 mm;
     * any of the component columns, in m:
       ``vertical`` (mean of both rails, up positive), ``alignment`` (mean lateral position,
       left positive), ``cross_level`` (rail height difference z_left − z_right, positive when
@@ -169,13 +180,42 @@ class MeasuredIrregularity(Schema):
     """
 
     kind: Literal["measured"] = "measured"
-    path: str = Field(..., min_length=1, description="Path of the CSV file (-)")
+    path: str | None = Field(
+        None, min_length=1, max_length=4096,
+        description="CSV file on the machine that runs the simulation (-); CLI and library "
+        "only, refused by the API",
+    )
+    upload: str | None = Field(
+        None, pattern=r"^[0-9a-f]{64}$",
+        description="Id (SHA-256 of the content) of a CSV uploaded with "
+        "POST /api/v1/irregularities (-)",
+    )
+    columns: list[Annotated[str, Field(min_length=1, max_length=64)]] | None = Field(
+        None, min_length=2, max_length=64,
+        description="Column names of the inline rows (-), as a CSV header",
+    )
+    rows: list[list[float]] | None = Field(
+        None, min_length=2,
+        description="Inline measurement rows (m): one value per column of 'columns'",
+    )
     distance_column: str = Field(
-        "distance_m", min_length=1, description="Name of the distance column (m) in the file"
+        "distance_m", min_length=1, max_length=64,
+        description="Name of the distance column (m) in the data",
     )
     scale: float = Field(
         1.0, ge=0.0, le=10.0, description="Amplitude factor applied to the measured data (-)"
     )
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Self:
+        given = [n for n in ("path", "upload", "rows") if getattr(self, n) is not None]
+        if len(given) != 1:
+            raise ValueError("give the data in exactly one way: 'path' (a file, CLI and "
+                             "library), 'upload' (an uploaded CSV's id) or 'columns' + 'rows'"
+                             + (f"; got {', '.join(given)}" if given else ""))
+        if (self.rows is None) != (self.columns is None):
+            raise ValueError("'rows' need 'columns' (the column names) and vice versa")
+        return self
 
 
 Excitation = Annotated[

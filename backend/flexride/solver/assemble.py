@@ -11,11 +11,13 @@ import numpy as np
 
 from flexride.contact.geometry import ContactTable, conical_table
 from flexride.contact.hertz import hertz_constant
+from flexride.errors import ScenarioError
 from flexride.model.excitation import RandomIrregularity
 from flexride.model.scenario import Scenario
 from flexride.solver import system as S
 from flexride.track.irregularities import IrregularityProfile, build_profile
 from flexride.track.line_geometry import GRAVITY, LineTable, build_line_table
+from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.track.rail import RailModel, build_rail_model
 from flexride.vehicle.topology import VehicleModel, build_vehicle
 
@@ -70,11 +72,15 @@ def output_rate_for(scenario: Scenario) -> float:
     return step_rate / ndec
 
 
-def _irregularity(scenario: Scenario, length: float) -> IrregularityProfile:
+def _irregularity(scenario: Scenario, length: float, sources: MeasuredSources
+                  ) -> IrregularityProfile:
     b = scenario.track.rail_centre_half_distance
     total: IrregularityProfile | None = None
-    for exc in scenario.excitation:
-        prof = build_profile([exc], length, half_gauge=b)
+    for i, exc in enumerate(scenario.excitation):
+        try:
+            prof = build_profile([exc], length, half_gauge=b, sources=sources)
+        except ScenarioError as err:
+            raise err.located(("excitation", i)) from None
         if isinstance(exc, RandomIrregularity):
             s = prof.s
             w = np.clip(s / RANDOM_FADE_IN_M, 0.0, 1.0)
@@ -119,7 +125,54 @@ def vehicle_for(scenario: Scenario) -> VehicleModel:
     return build_vehicle(scenario.vehicle, scenario.output, carbody=carbody, frames=frames)
 
 
-def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembly:
+def channel_layout(veh: VehicleModel) -> tuple[list[str], list[str], list[tuple[int, int, int]]]:
+    """Names, units and kernel recipes ``(kind, a, b)`` of the recorded channels, in order:
+    accelerations of every recorded point, wheel–rail forces and rail displacements of every
+    wheel, and the rigid coordinates of every body."""
+    bodies = veh.bodies
+    off = np.concatenate([[0], np.cumsum([b.n_dof for b in bodies])[:-1]]).astype(np.int64)
+    names: list[str] = []
+    units: list[str] = []
+    kinds: list[tuple[int, int, int]] = []
+    for p, (pname, bi, _m) in enumerate(veh.points):
+        bname = bodies[bi].name
+        for kind, d in ((S.CH_POINT_ACC_Y, "y"), (S.CH_POINT_ACC_Z, "z")):
+            names.append(f"{bname}.{pname}.acc.{d}")
+            units.append("m/s^2")
+            kinds.append((kind, p, 0))
+    for w, bi in enumerate(veh.wheelsets):
+        wname = bodies[bi].name
+        for sd, side in enumerate(SIDES):
+            for kind, q, u in (
+                (S.CH_WHEEL_FZ, "force.z", "N"),
+                (S.CH_WHEEL_FY, "force.y", "N"),
+                (S.CH_WHEEL_N, "force.n", "N"),
+                (S.CH_RAIL_Z, "rail_disp.z", "m"),
+                (S.CH_RAIL_Y, "rail_disp.y", "m"),
+            ):
+                names.append(f"{wname}.{side}.{q}")
+                units.append(u)
+                kinds.append((kind, w, sd))
+    coord_channels = [
+        ("disp.x", 0, "m"),
+        ("disp.y", 1, "m"),
+        ("disp.z", 2, "m"),
+        ("rot.x", 3, "rad"),
+        ("rot.y", 4, "rad"),
+        ("rot.z", 5, "rad"),
+    ]
+    for bi, body in enumerate(bodies):
+        for q, j, u in coord_channels:
+            if body.is_wheelset and j == 4:
+                q, u = "spin.y", "rad"
+            names.append(f"{body.name}.cg.{q}")
+            units.append(u)
+            kinds.append((S.CH_COORD, int(off[bi] + j), 0))
+    return names, units, kinds
+
+
+def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
+             sources: MeasuredSources = LIBRARY) -> Assembly:
     """Build the SystemArrays of ``scenario``.
 
     Parameters
@@ -128,6 +181,8 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
         Validated scenario.
     vehicle : VehicleModel, optional
         A prebuilt vehicle (e.g. with flexible bodies); built from the scenario otherwise.
+    sources : MeasuredSources
+        Where measured irregularities may be read from (default: files by path).
     """
     veh = vehicle or vehicle_for(scenario)
     bodies = veh.bodies
@@ -219,50 +274,13 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None) -> Assembl
     x_hi = max(b.x_ref for b in bodies) + 20.0
     b_rail = scenario.track.rail_centre_half_distance
     line = build_line_table(scenario.line, x_lo - 5.0, dist + x_hi + 5.0, b_rail)
-    irr = _irregularity(scenario, dist + x_hi + 5.0)
+    irr = _irregularity(scenario, dist + x_hi + 5.0, sources)
 
     n_steps = round(duration / sol.dt)
     rate = output_rate_for(scenario)
     ndec = round(1.0 / (sol.dt * rate))
 
-    # channels
-    names: list[str] = []
-    units: list[str] = []
-    kinds: list[tuple[int, int, int]] = []
-    for p, (pname, bi, _m) in enumerate(veh.points):
-        bname = bodies[bi].name
-        for kind, d in ((S.CH_POINT_ACC_Y, "y"), (S.CH_POINT_ACC_Z, "z")):
-            names.append(f"{bname}.{pname}.acc.{d}")
-            units.append("m/s^2")
-            kinds.append((kind, p, 0))
-    for w, bi in enumerate(veh.wheelsets):
-        wname = bodies[bi].name
-        for sd, side in enumerate(SIDES):
-            for kind, q, u in (
-                (S.CH_WHEEL_FZ, "force.z", "N"),
-                (S.CH_WHEEL_FY, "force.y", "N"),
-                (S.CH_WHEEL_N, "force.n", "N"),
-                (S.CH_RAIL_Z, "rail_disp.z", "m"),
-                (S.CH_RAIL_Y, "rail_disp.y", "m"),
-            ):
-                names.append(f"{wname}.{side}.{q}")
-                units.append(u)
-                kinds.append((kind, w, sd))
-    coord_channels = [
-        ("disp.x", 0, "m"),
-        ("disp.y", 1, "m"),
-        ("disp.z", 2, "m"),
-        ("rot.x", 3, "rad"),
-        ("rot.y", 4, "rad"),
-        ("rot.z", 5, "rad"),
-    ]
-    for bi, body in enumerate(bodies):
-        for q, j, u in coord_channels:
-            if body.is_wheelset and j == 4:
-                q, u = "spin.y", "rad"
-            names.append(f"{body.name}.cg.{q}")
-            units.append(u)
-            kinds.append((S.CH_COORD, int(off[bi] + j), 0))
+    names, units, kinds = channel_layout(veh)
     ch = np.array(kinds, dtype=np.int64).reshape(-1, 3)
 
     # dof names and the subset solved in statics (vertical plane + rails + elastic modes)

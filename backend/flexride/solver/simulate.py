@@ -22,6 +22,7 @@ from flexride.solver.kernel import (
 )
 from flexride.solver.stability import check_stability
 from flexride.solver.static import initial_window_start, static_equilibrium
+from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.vehicle.topology import VehicleModel
 
 ProgressCallback = Callable[[float, str], None]
@@ -37,7 +38,8 @@ def _static_wheel_loads(asm: Assembly, X0: np.ndarray, s_win0: float) -> list[li
     return [[float(aux[w, 0, S.AUX_FZ]), float(aux[w, 1, S.AUX_FZ])] for w in range(aux.shape[0])]
 
 
-def preflight(scenario: Scenario, vehicle: VehicleModel | None = None) -> dict:
+def preflight(scenario: Scenario, vehicle: VehicleModel | None = None,
+              sources: MeasuredSources = LIBRARY) -> dict:
     """Check a scenario without running it: assembly, static equilibrium and the time-step
     stability limit (raises :class:`~flexride.errors.StabilityError` with a step that works).
 
@@ -47,7 +49,7 @@ def preflight(scenario: Scenario, vehicle: VehicleModel | None = None) -> dict:
         ``n_dof``, ``n_steps``, ``output_rate`` (Hz), ``stability`` (see
         :func:`~flexride.solver.stability.stability_limit`) and ``static_wheel_loads`` (N).
     """
-    asm = assemble(scenario, vehicle=vehicle)
+    asm = assemble(scenario, vehicle=vehicle, sources=sources)
     s_win0 = initial_window_start(asm, 0.0)
     X0 = static_equilibrium(asm, 0.0, s_win0)
     stab = check_stability(asm, X0, 0.0, s_win0)
@@ -60,6 +62,7 @@ def simulate(
     progress: ProgressCallback | None = None,
     cancel: CancelCallback | None = None,
     vehicle: VehicleModel | None = None,
+    sources: MeasuredSources = LIBRARY,
 ) -> Results:
     """Simulate the vehicle running over the track of ``scenario``.
 
@@ -75,6 +78,9 @@ def simulate(
         :class:`~flexride.errors.SimulationCancelled`.
     vehicle : VehicleModel, optional
         Prebuilt vehicle (e.g. with flexible bodies) instead of the scenario's rigid one.
+    sources : MeasuredSources
+        Where measured irregularities may be read from (default: files by path; the service
+        passes its upload store and forbids paths).
 
     Returns
     -------
@@ -93,7 +99,7 @@ def simulate(
     t_start = time.perf_counter()
     report = progress or (lambda f, m: None)
     report(0.0, "assembling")
-    asm = assemble(scenario, vehicle=vehicle)
+    asm = assemble(scenario, vehicle=vehicle, sources=sources)
     s_win0 = initial_window_start(asm, 0.0)
     report(0.0, "static equilibrium")
     X0 = static_equilibrium(asm, 0.0, s_win0)

@@ -16,7 +16,7 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from flexride.errors import FlexrideError, SimulationCancelled
+from flexride.errors import FlexrideError, SimulationCancelled, StorageError
 from flexride.jobs.presence import Presence, worker_is_dead
 from flexride.settings import Settings
 from flexride.store import Job, JobStore, ResultFiles, now
@@ -132,6 +132,8 @@ def run_claimed(job: Job, ctx: JobContext) -> str:
     from flexride.analysis._common import jsonable
     from flexride.model.scenario import scenario_from_dict
     from flexride.solver import simulate
+    from flexride.store.probe import dir_problem
+    from flexride.store.uploads import UploadStore
 
     job_id = job.id
     log.info("job %s (%s) started by %s, attempt %d", job_id, job.name, ctx.worker, job.attempts)
@@ -145,7 +147,12 @@ def run_claimed(job: Job, ctx: JobContext) -> str:
     status = "failed"
     try:
         scenario = scenario_from_dict(job.scenario, source=f"job {job_id}")
-        results = simulate(scenario, progress=rep.progress, cancel=rep.cancel)
+        problem = dir_problem(ctx.files.root)
+        if problem:  # fail now, not after the run
+            raise StorageError(f"storage unavailable: results directory not writable: "
+                               f"{problem}")
+        results = simulate(scenario, progress=rep.progress, cancel=rep.cancel,
+                           sources=UploadStore(ctx.settings.uploads_dir).sources)
         rep.progress(1.0, "writing results")
         name = ctx.files.name_for(job_id)
         results.write_hdf5(ctx.files.path(name))

@@ -141,10 +141,13 @@ def flexible_available() -> bool:
 
 
 def rigid_proxy(scenario: Scenario) -> Scenario:
-    """The scenario with rigid car body and frames (what the submission check assembles)."""
+    """What the submission check assembles: the scenario with rigid car body and frames and
+    without measured irregularities (the stability limit does not depend on the excitation;
+    measured data are checked on admission, :mod:`flexride.study.admission`)."""
     data = scenario.model_dump(mode="json")
     data["bodies"]["carbody"]["model"] = "rigid"
     data["bodies"]["frames"]["model"] = "rigid"
+    data["excitation"] = [e for e in data["excitation"] if e.get("kind") != "measured"]
     return Scenario.model_validate(data)
 
 

@@ -9,10 +9,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from flexride.errors import StorageError
 from flexride.jobs.base import JobRunner
 from flexride.model.scenario import Scenario
 from flexride.settings import Settings
+from flexride.solver.estimate import RunEstimate
 from flexride.store import Job, JobStore, ResultFiles, Study, now
+from flexride.store.probe import dir_problem
+from flexride.store.uploads import UploadStore
+from flexride.study.admission import Limits, admit
 from flexride.study.expand import StudyPlan
 from flexride.study.scenarios import PREFLIGHT, PreflightCache, check_submission, scenario_hash
 
@@ -54,10 +59,26 @@ class Submitter:
                  settings: Settings, cache: PreflightCache = PREFLIGHT):
         self.store, self.files, self.runner, self.settings = store, files, runner, settings
         self.cache = cache
+        self.limits = Limits.from_settings(settings)
+        self.uploads = UploadStore(settings.uploads_dir)
+
+    def check_storage(self) -> None:
+        """Refuse new jobs while the results directory takes no files (a job could not
+        write its results): :class:`~flexride.errors.StorageError` (503)."""
+        problem = dir_problem(self.files.root)
+        if problem:
+            raise StorageError(f"results directory not writable: {problem}")
+
+    def admit(self, scenario: Scenario) -> RunEstimate:
+        """The checks every job passes before it is recorded (:func:`.admission.admit`):
+        measured data from uploads or inline only, the run and its FE bodies within limits."""
+        return admit(scenario, self.limits, self.uploads.sources)
 
     def _record(self, scenario: Scenario, *, name: str, preset: str | None, reuse: bool,
                 study_id: str | None = None, index: int | None = None,
                 axes: dict[str, Any] | None = None) -> Submitted:
+        self.admit(scenario)
+        self.check_storage()
         t = now()
         job_id = new_id()
         digest = scenario_hash(scenario)
@@ -109,9 +130,17 @@ class Submitter:
     def submit_study(self, plan: StudyPlan) -> tuple[Study, list[Submitted]]:
         """Create a study and all its jobs in one transaction, then queue them."""
         study_id = new_id()
-        subs = [self._record(pj.scenario, name=pj.name, preset=None, reuse=plan.reuse,
-                             study_id=study_id, index=pj.index, axes=pj.axes)
-                for pj in plan.jobs]
+        subs: list[Submitted] = []
+        try:
+            for pj in plan.jobs:
+                subs.append(self._record(pj.scenario, name=pj.name, preset=None,
+                                         reuse=plan.reuse, study_id=study_id, index=pj.index,
+                                         axes=pj.axes))
+        except Exception:
+            for s in subs:  # copies of reused results made before the refusal
+                if s.reused:
+                    self.files.delete(s.job.result_file)
+            raise
         study = Study(id=study_id, name=plan.name[:120], description=plan.description,
                       preset=plan.preset, created_at=now(), n_jobs=len(subs),
                       axes=[ax.describe() for ax in plan.axes], spec=plan.request)

@@ -44,7 +44,6 @@ integral, i.e. :func:`band_rms` squared. The route profile is the first part of 
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
@@ -62,6 +61,14 @@ from flexride.model.excitation import (
     MeasuredIrregularity,
     RandomIrregularity,
     Settlement,
+)
+from flexride.track.measured import (
+    COMPONENT_COLUMNS,
+    LIBRARY,
+    RAIL_COLUMNS,
+    MeasuredSources,
+    MeasuredTable,
+    load_measured,
 )
 
 if TYPE_CHECKING:
@@ -104,7 +111,7 @@ DEFAULT_DS = 0.05
 POINTS_PER_WAVELENGTH = 20
 """Grid points per shortest wavelength (-): ds ≤ λ_min/20."""
 _MIN_PERIODS = 8  # synthesis period ≥ 8·λ_max: ≥ 8 Fourier lines per Ω_min
-_RAIL_KEYS = ("z_left", "z_right", "y_left", "y_right")
+_RAIL_KEYS = RAIL_COLUMNS
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(5)
 
 
@@ -623,83 +630,6 @@ def settlement_profile(
     return prof
 
 
-_COMPONENT_COLUMNS = ("vertical", "alignment", "cross_level", "gauge")
-_MEASURED_COLUMNS = _COMPONENT_COLUMNS + _RAIL_KEYS
-
-
-def _read_measured_csv(
-    path: Path, distance_column: str
-) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """Parse and check a measured-irregularity CSV; return distance (m) and columns (m)."""
-    name = path.name
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read measured irregularity file ({exc})") from exc
-    lines = [
-        (i, line)
-        for i, line in enumerate(text.splitlines(), start=1)
-        if line.strip() and not line.lstrip().startswith("#")
-    ]
-    if not lines:
-        raise ScenarioError(f"{name}: file is empty (expected a header row and data rows)")
-    header_line, header_text = lines[0]
-    header = [h.strip() for h in next(csv.reader([header_text]))]
-    duplicates = sorted({h for h in header if header.count(h) > 1})
-    if duplicates:
-        raise ScenarioError(
-            f"{name}, line {header_line}: duplicate column name(s) {', '.join(duplicates)}"
-        )
-    if distance_column not in header:
-        raise ScenarioError(
-            f"{name}, line {header_line}: missing distance column {distance_column!r} "
-            f"(columns found: {', '.join(header) or 'none'})"
-        )
-    wanted = [h for h in header if h in _MEASURED_COLUMNS]
-    if not wanted:
-        raise ScenarioError(
-            f"{name}, line {header_line}: no irregularity column; expected one or more of "
-            f"{', '.join(_MEASURED_COLUMNS)} (columns found: {', '.join(header)})"
-        )
-    rows = lines[1:]
-    if len(rows) < 2:
-        raise ScenarioError(f"{name}: need at least two data rows, found {len(rows)}")
-    use = [distance_column, *wanted]
-    col_idx = [header.index(h) for h in use]
-    data = np.empty((len(rows), len(use)))
-    for r, (lineno, line) in enumerate(rows):
-        cells = next(csv.reader([line]))
-        if len(cells) != len(header):
-            raise ScenarioError(
-                f"{name}, line {lineno}: expected {len(header)} cells (as in the header), "
-                f"found {len(cells)}"
-            )
-        for j, (col, ci) in enumerate(zip(use, col_idx, strict=True)):
-            cell = cells[ci].strip()
-            try:
-                value = float(cell)
-            except ValueError:
-                raise ScenarioError(
-                    f"{name}, line {lineno}, column {col!r}: cannot read "
-                    f"{cell!r} as a number" + (" (empty cell)" if not cell else "")
-                ) from None
-            if not math.isfinite(value):
-                raise ScenarioError(
-                    f"{name}, line {lineno}, column {col!r}: value {cell!r} is not finite"
-                )
-            data[r, j] = value
-    dist = data[:, 0]
-    bad = np.flatnonzero(np.diff(dist) <= 0.0)
-    if bad.size:
-        i = int(bad[0])
-        raise ScenarioError(
-            f"{name}, line {rows[i + 1][0]}, column {distance_column!r}: distance must be "
-            f"strictly increasing, but {dist[i + 1]:g} m follows {dist[i]:g} m "
-            f"(line {rows[i][0]})"
-        )
-    return dist, {h: data[:, j + 1] for j, h in enumerate(wanted)}
-
-
 def measured_profile(
     path: str | Path,
     distance_column: str = "distance_m",
@@ -738,25 +668,24 @@ def measured_profile(
         cells, non-numeric or non-finite cells, distance not strictly increasing; the message
         names the file, the line and the column.
     """
-    dist, cols = _read_measured_csv(Path(path), distance_column)
+    table = load_measured(MeasuredIrregularity(path=str(path), distance_column=distance_column))
+    dist = table.distance
     if ds is None:
-        ds = float(np.median(np.diff(dist)))
+        ds = table.median_spacing
     n = _n_points(float(dist[-1] - dist[0]), ds)
     grid = float(dist[0]) + ds * np.arange(n)
-    return IrregularityProfile(float(dist[0]), ds, *_measured_rails(dist, cols, scale, grid))
+    return IrregularityProfile(float(dist[0]), ds, *_measured_rails(table, scale, grid))
 
 
-def _measured_rails(
-    dist: np.ndarray, cols: dict[str, np.ndarray], scale: float, grid: np.ndarray
-) -> list[np.ndarray]:
-    """Rail irregularities (m) of parsed measured data, interpolated at ``grid`` (m)."""
+def _measured_rails(table: MeasuredTable, scale: float, grid: np.ndarray) -> list[np.ndarray]:
+    """Rail irregularities (m) of checked measured data, interpolated at ``grid`` (m)."""
 
     def col(key: str) -> np.ndarray:
-        if key not in cols:
+        if key not in table.columns:
             return np.zeros(grid.size)
-        return np.interp(grid, dist, cols[key], left=0.0, right=0.0)
+        return np.interp(grid, table.distance, table.columns[key], left=0.0, right=0.0)
 
-    zv, ya, cl, g = (col(k) for k in _COMPONENT_COLUMNS)
+    zv, ya, cl, g = (col(k) for k in COMPONENT_COLUMNS)
     return [
         scale * (zv + 0.5 * cl + col("z_left")),
         scale * (zv - 0.5 * cl + col("z_right")),
@@ -779,6 +708,7 @@ def build_profile(
     length_m: float,
     ds: float | None = None,
     half_gauge: float = GERMAN_HALF_GAUGE,
+    sources: MeasuredSources = LIBRARY,
 ) -> IrregularityProfile:
     """Sum all excitations of a scenario into one rail irregularity profile.
 
@@ -795,24 +725,29 @@ def build_profile(
         A given ``ds`` is used as is; it must not exceed half of any of those wavelengths.
     half_gauge : float
         b, half distance between rail centres (m), for the random cross level.
+    sources : MeasuredSources
+        Where measured data may be read from (files by path in the library; the service's
+        uploads only in the service).
 
     Returns
     -------
     IrregularityProfile
         The sum, with s0 = 0 and step ``ds``.
+
+    Raises
+    ------
+    ScenarioError
+        Unusable measured data, located at its source field (``path``, ``upload``, ``rows``).
     """
     excs = list(excitations)
-    measured = {
-        i: _read_measured_csv(Path(exc.path), exc.distance_column)
-        for i, exc in enumerate(excs)
-        if isinstance(exc, MeasuredIrregularity)
-    }
+    measured = {i: load_measured(exc, sources) for i, exc in enumerate(excs)
+                if isinstance(exc, MeasuredIrregularity)}
     if ds is None:
         ds = DEFAULT_DS
         for i, exc in enumerate(excs):
             ds = min(ds, _required_ds(exc))
             if i in measured:
-                ds = min(ds, float(np.median(np.diff(measured[i][0]))))
+                ds = min(ds, measured[i].median_spacing)
     total = IrregularityProfile.zeros(length_m, ds)
     n = total.n
     for i, exc in enumerate(excs):
@@ -837,8 +772,7 @@ def build_profile(
                 length_m, exc.wavelength_m, exc.depth_m, exc.position_m, exc.rails, ds
             )
         elif isinstance(exc, MeasuredIrregularity):
-            dist, cols = measured[i]
-            part = IrregularityProfile(0.0, ds, *_measured_rails(dist, cols, exc.scale, total.s))
+            part = IrregularityProfile(0.0, ds, *_measured_rails(measured[i], exc.scale, total.s))
         else:  # pragma: no cover - the union is closed
             raise ScenarioError(f"unknown excitation {type(exc).__name__}")
         for key in _RAIL_KEYS:

@@ -11,6 +11,7 @@ from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport
 from flexride.api.services import fe as svc_fe
 from flexride.fe_export import DEFAULT_MAX_MODES, ExportSpec
 from flexride.model.bodies import BodyModel
+from flexride.study.admission import check_fe_build
 
 router = APIRouter(tags=["fe"])
 
@@ -70,11 +71,14 @@ def fe_model(
     names, units and ranges). 200 when the export exists or the body is in the FE cache; else
     the build starts in the background (once per parameter set, however often it is asked
     for) and the answer is 202 with ``Retry-After``: the first build of the 0.2 m car body
-    takes about a minute.
+    takes about a minute. Builds beyond the service's limits (``FLEXRIDE_MAX_FE_DOFS``,
+    ``FLEXRIDE_MAX_FE_CUTOFF_HZ``) are refused with 422 naming the parameter.
     """
     body = BodyModel(model="flexible", reduction=reduction, cutoff_hz=cutoff_hz,
                      element_size_m=element_size_m)
-    spec = ExportSpec.create(kind, svc_fe.preset_vehicle(preset), body, max_modes)
+    vehicle = svc_fe.preset_vehicle(preset)
+    check_fe_build(kind, vehicle, element_size_m, cutoff_hz, svc.submitter.limits, ("query",))
+    spec = ExportSpec.create(kind, vehicle, body, max_modes)
     return svc_fe.respond(svc.fe, spec, may_start=may_build)
 
 

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Request
 
 from flexride.api.deps import ServicesDep
-from flexride.api.errors import SafeJSONResponse
+from flexride.api.errors import SafeJSONResponse, recent_storage_fault
 from flexride.api.schemas import HealthOut, VersionOut
 from flexride.api.services import health as svc_health
 
@@ -16,11 +16,12 @@ router = APIRouter(tags=["service"])
 
 @router.get("/health", response_model=HealthOut, summary="Health",
             responses={503: {"model": HealthOut, "description": "The database is down"}})
-def health(svc: ServicesDep) -> Any:
-    """API, database, broker (Celery runner) and the workers seen in the last hour."""
+def health(svc: ServicesDep, request: Request) -> Any:
+    """API, database, storage (writable?), broker (Celery runner) and the workers seen in the
+    last hour; ``degraded`` while the storage takes no writes."""
     from fastapi.encoders import jsonable_encoder
 
-    status, body = svc_health.health(svc)
+    status, body = svc_health.health(svc, recent_storage_fault(request.app))
     return SafeJSONResponse(jsonable_encoder(body), status_code=status)
 
 

@@ -28,13 +28,18 @@ def submit_job(body: JobCreate, svc: ServicesDep) -> dict[str, Any]:
     return svc_jobs.create_job(svc, body)
 
 
-@router.post("/validate", response_model=dict[str, Any], summary="Validate a job request",
-             responses={422: {"description": "Invalid scenario or unstable time step"}})
-def validate_job(body: JobCreate) -> dict[str, Any]:
-    """Check a job request as ``POST /jobs`` would (field validation and time-step
-    stability), without creating a job: ``{"valid": true, "preflight": {...}}`` or the same
-    422 as a submission (field paths, allowed ranges, ``dt_suggested``)."""
-    return svc_jobs.validate_job(body)
+@router.post("/validate", response_model=dict[str, Any], dependencies=AUTH,
+             summary="Validate a job request",
+             responses={401: {"description": "Bearer token missing or wrong"},
+                        422: {"description": "Invalid scenario, a run beyond the service's "
+                              "limits or an unstable time step"}})
+def validate_job(body: JobCreate, svc: ServicesDep) -> dict[str, Any]:
+    """Check a job request as ``POST /jobs`` would (field validation, measured data, the
+    service's limits and time-step stability), without creating a job:
+    ``{"valid": true, "estimate": {...}, "preflight": {...}}`` or the same 422 as a
+    submission (field paths, allowed ranges, ``dt_suggested``). Needs the token when the
+    service has one (it costs CPU)."""
+    return svc_jobs.validate_job(svc, body)
 
 
 @router.get("", response_model=JobList, summary="List jobs")
