@@ -1,23 +1,33 @@
 """Service performance (prints figures; not a timed test).
 
-1. API latency, p50/p95, under a small concurrent load from a separate process (4 client
-   threads by default): job detail (``GET /jobs/{id}``) and a decimated 10,000-point series
-   (``GET /jobs/{id}/series?max_points=10000``) of a 20 s run (20,000 samples per channel).
+1. Reads under load: ``--clients`` (default 50) concurrent connections from a separate client
+   process (asyncio + httpx) for ``--duration`` s (default 60) against a real
+   ``flexride serve`` on 127.0.0.1 with an idle runner, cycling through the job list
+   (``GET /jobs``), the job detail (``GET /jobs/{id}``), the summary and a decimated series
+   (two channels, 2000 points, min/max) of a finished 20 s job (paper-random-straight-80,
+   20,000 samples per channel). Prints throughput, p50/p95/p99, the slowest request and the
+   errors (non-200 or a malformed answer) per endpoint and overall.
 2. Throughput on a study of 8 short jobs (paper-random-straight at 8 speeds, 5 s simulated):
    the embedded runner (2 worker processes) and two Celery workers (1 process each, Redis
    broker), relative to running the same 8 jobs one after another in one process
    (simulate + write HDF5 + analyze, kernels already compiled).
 
-Needs Redis on 127.0.0.1:6379 for the Celery part (``tools/ensure_services.sh``); runs
-everything on loopback and stops every process it started.
+The service runs with a temporary data directory on a free port; needs Redis on
+127.0.0.1:6379 for the Celery part (``tools/ensure_services.sh``); runs everything on
+loopback and stops every process it started.
 
-Usage: ``python benchmarks/bench_service.py [--quick] [--clients N] [--requests N]``
+Usage: ``python benchmarks/bench_service.py [--quick] [--clients N] [--duration S]
+[--reads-only] [--skip-celery]``
 """
 
 from __future__ import annotations
 
 import argparse
+import asyncio
 import contextlib
+import functools
+import gzip
+import json
 import multiprocessing as mp
 import os
 import signal
@@ -26,7 +36,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -106,38 +115,135 @@ def _wait_job(url: str, job_id: str, timeout: float = 600.0) -> dict:
     return job
 
 
-# -- 1. latency under load -------------------------------------------------------------------
+# -- 1. reads under load --------------------------------------------------------------------
+
+SERIES_CHANNELS = ("carbody.PR.acc.z", "carbody.PC.acc.y")
+SERIES_POINTS = 2000
 
 
-def _load(url: str, job_id: str, clients: int, requests: int, out: mp.Queue) -> None:
-    """Runs in a separate process: ``clients`` threads, each sending ``requests`` requests
-    alternating job detail and the 10,000-point series; puts (kind, seconds) pairs on out."""
-    results: list[tuple[str, float]] = []
-    lock = threading.Lock()
-    detail = f"{url}{API}/jobs/{job_id}"
-    series = (f"{url}{API}/jobs/{job_id}/series?channels=carbody.PR.acc.z&max_points=10000"
-              "&method=lttb")
+def _targets(job_id: str) -> dict[str, str]:
+    """The four read endpoints of the load, by label (paths relative to the API)."""
+    chans = "&".join(f"channels={c}" for c in SERIES_CHANNELS)
+    return {
+        "GET /jobs": f"{API}/jobs",
+        "GET /jobs/{id}": f"{API}/jobs/{job_id}",
+        "GET /jobs/{id}/summary": f"{API}/jobs/{job_id}/summary",
+        f"GET /jobs/{{id}}/series ({SERIES_POINTS} pts)":
+            f"{API}/jobs/{job_id}/series?{chans}&max_points={SERIES_POINTS}&method=minmax",
+    }
 
-    def client(k: int) -> None:
-        with httpx.Client(timeout=30) as c:
-            for i in range(requests):
-                kind, target = ("detail", detail) if (i + k) % 2 == 0 else ("series", series)
-                t0 = time.perf_counter()
-                r = c.get(target)
-                dt = time.perf_counter() - t0
-                r.raise_for_status()
-                if kind == "series":
-                    assert len(r.json()["channels"][0]["values"]) <= 10_000
-                with lock:
-                    results.append((kind, dt))
 
-    threads = [threading.Thread(target=client, args=(k,)) for k in range(clients)]
-    t0 = time.perf_counter()
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    out.put((results, time.perf_counter() - t0))
+def _check(label: str, body: dict) -> bool:
+    """Whether a 200 answer has the expected shape (an error otherwise)."""
+    if label == "GET /jobs":
+        return bool(body.get("items"))
+    if "series" in label:
+        return all(0 < len(c["values"]) <= SERIES_POINTS for c in body["channels"])
+    if "summary" in label:
+        return bool(body.get("summary"))
+    return body.get("status") == "succeeded"
+
+
+class _Conn:
+    """A minimal keep-alive HTTP/1.1 client on asyncio streams (GET only, gzip accepted like
+    a browser), so that the client process costs little CPU next to the service on a 2-core
+    machine: httpx spends several ms of CPU per request, as much as the service."""
+
+    def __init__(self, host: str, port: int):
+        self.host, self.port = host, port
+        self.reader: asyncio.StreamReader | None = None
+        self.writer: asyncio.StreamWriter | None = None
+
+    async def get(self, path: str) -> tuple[int, bytes]:
+        """Status and (decompressed) body of ``GET path``; reconnects when needed."""
+        if self.writer is None:
+            self.reader, self.writer = await asyncio.open_connection(self.host, self.port)
+        self.writer.write(f"GET {path} HTTP/1.1\r\nHost: {self.host}:{self.port}\r\n"
+                          "Accept-Encoding: gzip\r\n\r\n".encode())
+        head = (await self.reader.readuntil(b"\r\n\r\n")).decode("latin-1").split("\r\n")
+        headers = dict(_header(line) for line in head[1:] if line)
+        if "content-length" in headers:
+            body = await self.reader.readexactly(int(headers["content-length"]))
+        else:
+            body = await self._chunked()
+        if headers.get("content-encoding") == "gzip":
+            body = gzip.decompress(body)
+        if headers.get("connection", "").lower() == "close":
+            self.close()
+        return int(head[0].split(" ", 2)[1]), body
+
+    async def _chunked(self) -> bytes:
+        parts = []
+        while True:
+            size = int((await self.reader.readline()).split(b";")[0], 16)
+            parts.append(await self.reader.readexactly(size + 2))
+            if size == 0:
+                return b"".join(parts)[:-2]
+
+    def close(self) -> None:
+        if self.writer is not None:
+            self.writer.close()
+        self.reader = self.writer = None
+
+
+def _header(line: str) -> tuple[str, str]:
+    key, _, value = line.partition(":")
+    return key.strip().lower(), value.strip()
+
+
+async def _client_loop(get, targets: list[tuple[str, str]], k: int, deadline: float,
+                       out: list) -> None:
+    """One client: requests back to back until ``deadline``, starting at target ``k``;
+    ``get(path)`` returns (status, body)."""
+    i = k
+    while time.perf_counter() < deadline:
+        label, path = targets[i % len(targets)]
+        i += 1
+        t0 = time.perf_counter()
+        try:
+            status, body = await get(path)
+            ok = status == 200 and _check(label, json.loads(body))
+        except Exception:  # any failure counts as an error
+            ok = False
+        out.append((label, time.perf_counter() - t0, ok))
+
+
+async def _httpx_get(client: httpx.AsyncClient, path: str) -> tuple[int, bytes]:
+    r = await client.get(path)
+    return r.status_code, r.content
+
+
+async def _run_load(base: str, job_id: str, clients: int, duration: float,
+                    kind: str) -> tuple[list, float]:
+    targets = list(_targets(job_id).items())
+    out: list = []
+    limits = httpx.Limits(max_connections=clients, max_keepalive_connections=clients)
+    async with httpx.AsyncClient(base_url=base, limits=limits, timeout=30.0) as client:
+        conns = [_Conn("127.0.0.1", int(base.rsplit(":", 1)[1])) for _ in range(clients)]
+        gets = [c.get for c in conns] if kind == "raw" else \
+            [functools.partial(_httpx_get, client)] * clients
+        deadline = time.perf_counter() + duration
+        t0 = time.perf_counter()
+        await asyncio.gather(*(_client_loop(gets[k], targets, k, deadline, out)
+                               for k in range(clients)))
+        wall = time.perf_counter() - t0
+        for c in conns:
+            c.close()
+    return out, wall
+
+
+def _load(url: str, job_id: str, clients: int, duration: float, kind: str,
+          out: mp.Queue) -> None:
+    """Runs in a separate process: ``clients`` concurrent connections, each sending requests
+    back to back for ``duration`` s, cycling through the four endpoints; puts
+    ``([(label, seconds, ok)], wall s, client CPU s)`` on ``out``."""
+    import resource
+
+    if not url.startswith("http://127.0.0.1:"):
+        raise SystemExit("the load only goes to 127.0.0.1")
+    results, wall = asyncio.run(_run_load(url, job_id, clients, duration, kind))
+    use = resource.getrusage(resource.RUSAGE_SELF)
+    out.put((results, wall, use.ru_utime + use.ru_stime))
 
 
 def _pct(values: list[float], q: float) -> float:
@@ -145,29 +251,53 @@ def _pct(values: list[float], q: float) -> float:
         else values[0]
 
 
-def latency(url: str, clients: int, requests: int) -> None:
-    r = httpx.post(f"{url}{API}/jobs", timeout=60, json={
-        "preset": "paper-random-straight-80", "reuse": False,
-        "overrides": {"duration_s": 20.0, "distance_m": None}})
+def _submit_finished_job(url: str, copies: int) -> str:
+    """The finished 20 s job (paper-random-straight-80) and ``copies`` jobs reusing its
+    results, so that the job list has that many more rows; returns the first job's id."""
+    body = {"preset": "paper-random-straight-80", "reuse": False,
+            "overrides": {"duration_s": 20.0, "distance_m": None}}
+    r = httpx.post(f"{url}{API}/jobs", timeout=120, json=body)
     r.raise_for_status()
     job = _wait_job(url, r.json()["id"])
-    n = httpx.get(f"{url}{API}/jobs/{job['id']}/channels").json()["n_samples"]
-    httpx.get(f"{url}{API}/jobs/{job['id']}/series?channels=carbody.PR.acc.z&max_points=10000"
-              "&method=lttb", timeout=60)  # first call compiles/loads LTTB
+    for _ in range(copies):
+        r = httpx.post(f"{url}{API}/jobs", timeout=120, json={**body, "reuse": True})
+        r.raise_for_status()
+    return job["id"]
+
+
+_CLIENTS = {"raw": "asyncio streams", "httpx": "asyncio + httpx"}
+
+
+def _print_table(results: list, wall: float) -> None:
+    print(f"   {'request':<36} {'req/s':>7} {'p50 ms':>8} {'p95 ms':>8} {'p99 ms':>8} "
+          f"{'max ms':>8} {'errors':>7}")
+    labels = list(dict.fromkeys(label for label, _, _ in results))
+    for label in [*labels, "overall"]:
+        rows = [r for r in results if label in ("overall", r[0])]
+        v = [dt * 1000 for _, dt, _ in rows]
+        errors = sum(not ok for _, _, ok in rows)
+        print(f"   {label:<36} {len(rows) / wall:7.1f} {_pct(v, 50):8.1f} {_pct(v, 95):8.1f} "
+              f"{_pct(v, 99):8.1f} {max(v):8.1f} {errors:7d}")
+
+
+def latency(url: str, clients: int, duration: float, copies: int, kind: str) -> None:
+    """Read load on one finished 20 s job while the runner is idle; prints the table."""
+    job_id = _submit_finished_job(url, copies)
+    n = httpx.get(f"{url}{API}/jobs/{job_id}/channels").json()["n_samples"]
+    for path in _targets(job_id).values():  # one request each before the clock starts
+        httpx.get(f"{url}{path}", timeout=60).raise_for_status()
     ctx = mp.get_context("spawn")
     q = ctx.Queue()
-    proc = ctx.Process(target=_load, args=(url, job["id"], clients, requests, q))
+    proc = ctx.Process(target=_load, args=(url, job_id, clients, duration, kind, q))
+    load0 = _load_note()
     proc.start()
-    results, wall = q.get(timeout=600)
+    results, wall, cpu = q.get(timeout=duration + 600)
     proc.join()
-    print(f"\n1. API latency {_load_note()}: 20 s run ({n} samples per channel), "
-          f"{clients} concurrent clients in a separate process, {len(results)} requests in "
-          f"{wall:.1f} s ({len(results) / wall:.0f} req/s)")
-    print(f"   {'request':<44} {'p50 ms':>8} {'p95 ms':>8} {'n':>5}")
-    for kind, label in (("detail", "GET /jobs/{id}"),
-                        ("series", "GET /jobs/{id}/series, 10,000 points (LTTB)")):
-        v = [dt * 1000 for k, dt in results if k == kind]
-        print(f"   {label:<44} {_pct(v, 50):8.1f} {_pct(v, 95):8.1f} {len(v):5d}")
+    print(f"\n1. Reads under load {load0}: a finished 20 s run ({n} samples per channel), "
+          f"{copies + 1} jobs in the list, runner idle; {clients} concurrent clients "
+          f"({_CLIENTS[kind]}, one process using {cpu / wall:.0%} of a core) for {wall:.1f} s: "
+          f"{len(results)} requests ({len(results) / wall:.0f} req/s)")
+    _print_table(results, wall)
 
 
 # -- 2. throughput ---------------------------------------------------------------------------
@@ -235,13 +365,21 @@ def study(url: str, duration: float) -> tuple[float, float, float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer requests, shorter jobs")
-    parser.add_argument("--clients", type=int, default=4, help="concurrent clients (default 4)")
-    parser.add_argument("--requests", type=int, default=None,
-                        help="requests per client (default 100, 25 with --quick)")
+    parser.add_argument("--quick", action="store_true",
+                        help="10 s of read load (unless --duration), shorter study jobs")
+    parser.add_argument("--clients", type=int, default=50,
+                        help="concurrent read clients (default 50)")
+    parser.add_argument("--duration", type=float, default=None,
+                        help="seconds of read load (default 60, 10 with --quick)")
+    parser.add_argument("--list-jobs", type=int, default=20,
+                        help="jobs in the job list during the read load (default 20)")
+    parser.add_argument("--client", choices=sorted(_CLIENTS), default="raw",
+                        help="HTTP client of the read load: raw (a minimal keep-alive client "
+                        "on asyncio streams, default) or httpx (costs more CPU per request)")
+    parser.add_argument("--reads-only", action="store_true", help="no throughput measurement")
     parser.add_argument("--skip-celery", action="store_true", help="no Celery measurement")
     args = parser.parse_args()
-    requests = args.requests or (25 if args.quick else 100)
+    load_s = args.duration or (10.0 if args.quick else 60.0)
     duration = 2.0 if args.quick else 5.0
     print(f"flexride service benchmark ({os.cpu_count()} cores; numbers vary with other load)")
     procs: list[subprocess.Popen] = []
@@ -251,7 +389,9 @@ def main() -> None:
             api, url = _serve(tmp, "embedded", FLEXRIDE_WORKERS="2")
             procs.append(api)
             _wait(lambda: _workers_alive(url, 2), 120.0, "2 embedded workers")
-            latency(url, args.clients, requests)
+            latency(url, args.clients, load_s, max(0, args.list_jobs - 1), args.client)
+            if args.reads_only:
+                return
 
             print(f"\n2. Throughput: study of 8 jobs (paper-random-straight, "
                   f"{len(STUDY_SPEEDS)} speeds, {duration:g} s simulated each)")

@@ -43,3 +43,48 @@ def test_errors_are_one_line_and_nonzero(tmp_path):
     assert not (tmp_path / "x.h5").exists()
     p = _run("run", str(tmp_path / "missing.yaml"))
     assert p.returncode == 2 and "not found" in p.stderr
+
+
+def _nested_files(tmp_path):
+    """Scenario files nested too deeply or expanding to too much data."""
+    laughs = ['l0: &l0 ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]']
+    laughs += [f"l{i}: &l{i} [" + ", ".join([f"*l{i - 1}"] * 9) + "]" for i in range(1, 9)]
+    files = {
+        "brackets.yaml": "[" * 100_000,
+        "mapping.yaml": "\n".join("  " * i + "a:" for i in range(3000)),
+        "brackets.json": "[" * 100_000,
+        "just-too-deep.yaml": "{a: " * 65 + "1" + "}" * 65,
+        "aliases.yaml": "\n".join(laughs),
+    }
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    (tmp_path / "binary.yaml").write_bytes(b"name: \xff\xfe\n")
+    return [tmp_path / name for name in [*files, "binary.yaml"]]
+
+
+def test_deeply_nested_scenario_file_is_one_line(tmp_path):
+    deep = _nested_files(tmp_path)[0]
+    p = _run("run", str(deep), "-o", str(tmp_path / "x.h5"))
+    assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
+    assert p.stderr.strip() == f"error: {deep}: nested more than 64 levels deep"
+
+
+def test_nested_or_expanding_files_are_refused_before_anything_runs(tmp_path):
+    from typer.testing import CliRunner
+
+    from flexride.cli import app
+
+    expected = {"binary.yaml": "not UTF-8 text", "aliases.yaml": "more than 2,000,000 values"}
+    for path in _nested_files(tmp_path):
+        r = CliRunner().invoke(app, ["run", str(path), "-o", str(tmp_path / "x.h5")])
+        assert r.exit_code == 2 and isinstance(r.exception, SystemExit | None), r.output
+        message = " ".join(r.output.split())  # rich wraps long lines
+        assert message.startswith("error: ") and str(path.name) in message, r.output
+        assert expected.get(path.name, "nested more than 64 levels deep") in message, r.output
+    r = CliRunner().invoke(app, ["run", "--preset", "paper-metro", "--set", "x=" + "[" * 5000])
+    assert r.exit_code == 2 and "--set x: nested more than 64 levels deep" in r.output
+    ok = tmp_path / "ok.yaml"  # 64 levels are fine for the parser (the scenario is invalid)
+    ok.write_text("{a: " * 63 + "1" + "}" * 63)
+    r = CliRunner().invoke(app, ["run", str(ok), "-o", str(tmp_path / "x.h5")])
+    assert r.exit_code == 2 and "nested more" not in r.output
+    assert "ok.yaml: speed_kmh: Field required" in r.output

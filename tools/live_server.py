@@ -227,7 +227,8 @@ def _tail(log: Path | None) -> str:
 
 
 def start_server(data_dir: Path, *, workers: int | None = None, cache_dir: Path | None = None,
-                 log: Path | None = None, timeout: float = 90.0) -> LiveServer:
+                 log: Path | None = None, timeout: float = 90.0,
+                 env: dict[str, str] | None = None) -> LiveServer:
     """Start ``flexride serve`` (embedded runner, dashboard from ``frontend/``) and wait until
     its health is ``ok``.
 
@@ -244,6 +245,9 @@ def start_server(data_dir: Path, *, workers: int | None = None, cache_dir: Path 
         File for the server's output (discarded otherwise).
     timeout : float
         Seconds to wait for the server to become healthy.
+    env : dict of str to str, optional
+        More environment variables of the server (e.g. ``FLEXRIDE_API_TOKEN``); by default
+        it has neither a token nor a broker.
 
     Returns
     -------
@@ -255,6 +259,7 @@ def start_server(data_dir: Path, *, workers: int | None = None, cache_dir: Path 
     exe = Path(sys.executable).with_name("flexride")
     cmd = [str(exe)] if exe.is_file() else [sys.executable, "-m", "flexride.cli"]
     cmd += ["serve", "--host", "127.0.0.1", "--port", str(port), "--data-dir", str(data_dir)]
+    extra = env or {}
     env = {
         **os.environ,
         "FLEXRIDE_DATA_DIR": str(data_dir),
@@ -267,6 +272,7 @@ def start_server(data_dir: Path, *, workers: int | None = None, cache_dir: Path 
         env["FLEXRIDE_CACHE_DIR"] = str(cache_dir)
     env.pop("FLEXRIDE_API_TOKEN", None)
     env.pop("FLEXRIDE_BROKER_URL", None)
+    env.update(extra)
     out = open(log, "wb") if log is not None else subprocess.DEVNULL
     try:
         proc = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, env=env, cwd=ROOT)

@@ -5,7 +5,8 @@ the same commands run as ``python -m flexride.service_cli serve|worker``.
 
 * ``serve`` starts the API with uvicorn; without a broker it also starts the embedded runner
   (a pool of worker processes on this machine); records and results live under
-  ``FLEXRIDE_DATA_DIR``.
+  ``FLEXRIDE_DATA_DIR``. Invalid settings, a weak ``FLEXRIDE_API_TOKEN`` among them, end it
+  with exit code 2 and one line per problem.
 * ``worker`` starts a Celery worker (the app in ``worker/``) for ``FLEXRIDE_BROKER_URL``; it
   replaces itself with ``python -m celery`` so that one-thread BLAS settings apply before
   NumPy loads.
@@ -72,6 +73,10 @@ def serve(
     if not _is_loopback(bind) and not settings.api_token:
         typer.echo(f"warning: listening on {bind} without FLEXRIDE_API_TOKEN: anyone who can "
                    "reach this address can submit and delete jobs", err=True)
+    if not _is_loopback(bind) and not settings.allowed_hosts:
+        names = ", ".join(settings.trusted_hosts)
+        typer.echo(f"note: only requests for {names} are answered; set FLEXRIDE_ALLOWED_HOSTS "
+                   "to the host names clients use (e.g. flexride.example.org)", err=True)
     shown = "127.0.0.1" if bind in ("0.0.0.0", "::") else bind
     url = f"http://{shown}:{settings.port}"
     typer.echo(f"flexride service: API docs at {url}/docs, API at {url}{API_PREFIX}")

@@ -10,17 +10,75 @@ table of settings is in ``docs/service.md``.
 from __future__ import annotations
 
 import os
+import re
 from functools import lru_cache
 from pathlib import Path
 from typing import Literal
 
 from pydantic import Field, computed_field, field_validator
+from pydantic_core import PydanticCustomError
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 API_PREFIX = "/api/v1"
 """Path prefix of every API route."""
 
 _REPO_ROOT = Path(__file__).resolve().parents[2]
+
+MIN_TOKEN_LENGTH = 16
+"""Shortest accepted ``FLEXRIDE_API_TOKEN``."""
+TOKEN_HINT = 'make a strong one with: python3 -c "import secrets; print(secrets.token_urlsafe(32))"'
+"""How to make a good token (said with every refused one)."""
+_WEAK_WORDS = (
+    "changeme", "secret", "password", "passw0rd", "p@ssw0rd", "token", "admin", "test",
+    "letmein", "qwerty", "welcome", "default", "flexride", "example", "guest", "login",
+    "master", "root", "pass", "demo", "user", "bearer", "dummy", "sample", "hello", "api",
+)
+_WEAK_TOKEN = re.compile("(?:" + "|".join(map(re.escape, _WEAK_WORDS)) + r"|[0-9]|[^a-z0-9])+")
+_RUNS = ("abcdefghijklmnopqrstuvwxyz", "qwertyuiopasdfghjklzxcvbnm", "0123456789")
+LOOPBACK_HOSTS = ("localhost", "127.0.0.1", "::1")
+"""Host names every service accepts (``Host`` header checks, see ``trusted_hosts``)."""
+_HOST_ENTRY = re.compile(r"(\*|(\*\.)?[a-z0-9_.-]+|\[[0-9a-f:.]+\]|[0-9a-f:.]+)(:[0-9]{1,5})?")
+
+
+def _guessable(token: str) -> bool:
+    """Whether ``token`` is made of well-known words, digits and punctuation only, of fewer
+    than six different characters, or is a run of the alphabet, the keyboard or the digits."""
+    low = token.lower()
+    if _WEAK_TOKEN.fullmatch(low) or len(set(low)) < 6:
+        return True
+    alnum = re.sub(r"[^a-z0-9]", "", low)
+    reps = len(alnum) // 10 + 2
+    return any(alnum in run * reps or alnum in run[::-1] * reps for run in _RUNS)
+
+
+def token_problem(token: str | None) -> str | None:
+    """What is wrong with an API token, or None when it is acceptable (or unset).
+
+    Parameters
+    ----------
+    token : str or None
+        The value of ``FLEXRIDE_API_TOKEN``.
+
+    Returns
+    -------
+    str or None
+        One sentence that ends with how to make a strong token (:data:`TOKEN_HINT`).
+    """
+    if token is None:
+        return None
+    if not token.strip():
+        problem = "is only whitespace"
+    elif token != token.strip():
+        problem = "begins or ends with whitespace"
+    elif not all("!" <= c <= "~" for c in token):
+        problem = "must be printable ASCII without spaces"
+    elif len(token) < MIN_TOKEN_LENGTH:
+        problem = f"is too short ({len(token)} characters, at least {MIN_TOKEN_LENGTH})"
+    elif _guessable(token):
+        problem = "is a well-known or easily guessed value"
+    else:
+        return None
+    return f"the token {problem}; {TOKEN_HINT}"
 
 
 def _default_data_dir() -> Path:
@@ -45,7 +103,8 @@ class Settings(BaseSettings):
     """
 
     model_config = SettingsConfigDict(
-        env_prefix="FLEXRIDE_", env_file=".env", env_ignore_empty=True, extra="ignore"
+        env_prefix="FLEXRIDE_", env_file=".env", env_ignore_empty=True, extra="ignore",
+        hide_input_in_errors=True,  # error texts never repeat a value (the token)
     )
 
     data_dir: Path = Field(
@@ -78,6 +137,12 @@ class Settings(BaseSettings):
         None, description="Bind address of `flexride serve` (default 127.0.0.1)"
     )
     port: int = Field(8000, ge=1, le=65535, description="Port of `flexride serve`")
+    allowed_hosts: str | None = Field(
+        None,
+        description="Host names the API answers besides the bind address, localhost, "
+        "127.0.0.1 and ::1 (comma-separated; *.example.org for subdomains, * for any); "
+        "other Host headers get 400",
+    )
     max_body_bytes: int = Field(
         4 * 1024 * 1024, ge=1024, description="Largest accepted request body (bytes); 413 beyond"
     )
@@ -102,6 +167,30 @@ class Settings(BaseSettings):
         4096, ge=128, description="A Celery worker child is replaced after exceeding this"
     )
     max_study_jobs: int = Field(256, ge=1, le=100_000, description="Most jobs in one study")
+    max_steps: int = Field(
+        5_000_000, ge=1000, le=10**10,
+        description="Most time steps of one job (duration / solver.dt); 422 beyond",
+    )
+    max_output_points: int = Field(
+        200, ge=6, le=100_000,
+        description="Most recorded car-body points of one job (the paper's six, user points "
+        "and the floor grid); 422 beyond",
+    )
+    max_result_mb: float = Field(
+        512.0, gt=0.0, le=1.0e6,
+        description="Largest estimated result file of one job (MB: channels × samples × 8 "
+        "bytes); 422 beyond",
+    )
+    max_fe_dofs: int = Field(
+        150_000, ge=1000, le=10**8,
+        description="Largest FE model (degrees of freedom, estimated from the element size) a "
+        "job or GET /fe may build; 422 beyond",
+    )
+    max_fe_cutoff_hz: float = Field(
+        100.0, gt=1.0, le=500.0,
+        description="Highest modal cut-off (Hz) of an FE body a job or GET /fe may build; 422 "
+        "beyond",
+    )
     reuse_results: bool = Field(
         True, description="Reuse stored results of identical scenarios unless a request opts out"
     )
@@ -119,6 +208,30 @@ class Settings(BaseSettings):
     )
     celery_queue: str = Field("flexride", description="Celery queue of the simulation jobs")
     log_level: str = Field("info", description="Log level of the service and the workers")
+
+    @field_validator("api_token", mode="after")
+    @classmethod
+    def _strong_token(cls, value: str | None) -> str | None:
+        if value == "":
+            return None  # as an empty FLEXRIDE_API_TOKEN: no token
+        problem = token_problem(value)
+        if problem:
+            raise PydanticCustomError("weak_token", problem)
+        return value
+
+    @field_validator("allowed_hosts", mode="before")
+    @classmethod
+    def _host_list(cls, value: object) -> object:
+        if isinstance(value, list | tuple | set):
+            value = ",".join(map(str, value))
+        if isinstance(value, str):
+            for entry in filter(None, (e.strip().lower() for e in value.split(","))):
+                if not _HOST_ENTRY.fullmatch(entry):
+                    raise PydanticCustomError(
+                        "host_list", "'{entry}' is not a host name; give names such as "
+                        "api.example.org, comma-separated (no scheme, path or spaces)",
+                        {"entry": entry[:60]})
+        return value
 
     @field_validator("data_dir", "cache_dir", mode="after")
     @classmethod
@@ -139,6 +252,12 @@ class Settings(BaseSettings):
 
     @computed_field  # type: ignore[prop-decorator]
     @property
+    def uploads_dir(self) -> Path:
+        """Directory of uploaded data, stored by content hash (``<data_dir>/uploads``)."""
+        return self.data_dir / "uploads"
+
+    @computed_field  # type: ignore[prop-decorator]
+    @property
     def effective_runner(self) -> str:
         """The runner in use: ``embedded``, ``celery`` or ``none``."""
         if self.runner != "auto":
@@ -150,6 +269,17 @@ class Settings(BaseSettings):
     def bind_host(self) -> str:
         """Address ``flexride serve`` binds to: the setting, else loopback."""
         return self.host or "127.0.0.1"
+
+    @computed_field  # type: ignore[prop-decorator]
+    @property
+    def trusted_hosts(self) -> list[str]:
+        """Host names the API answers: localhost, 127.0.0.1, ::1, the bind address (unless
+        it is a wildcard address) and ``allowed_hosts``."""
+        names = [*LOOPBACK_HOSTS]
+        if self.bind_host not in ("0.0.0.0", "::", ""):
+            names.append(self.bind_host)
+        names += [e.strip() for e in (self.allowed_hosts or "").split(",") if e.strip()]
+        return list(dict.fromkeys(n.lower() for n in names))
 
 
 @lru_cache(maxsize=1)

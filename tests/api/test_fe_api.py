@@ -224,13 +224,13 @@ def test_a_jobs_own_flexible_body(make_client):
 def test_starting_a_build_needs_the_token_serving_a_built_model_does_not(make_client):
     """With an API token, a GET that would start an FE build (minutes of CPU) is refused
     without the token (401); with it the build starts (202); once built, reads stay open."""
-    client = make_client(api_token="s3cret")
+    client = make_client(api_token="Qm7vR2xK9pLw4ZtB-e3Nc")
     fe = use_fe_builds(client, wait_s=5.0)
     params = {"element_size_m": 0.5}
     r = client.get(f"{API}/fe/carbody", params=params)
     assert r.status_code == 401 and "API token" in r.json()["message"]
     assert fe.builds_started == 0
-    auth = {"Authorization": "Bearer s3cret"}
+    auth = {"Authorization": "Bearer Qm7vR2xK9pLw4ZtB-e3Nc"}
     r = client.get(f"{API}/fe/carbody", params=params, headers=auth)
     assert r.status_code in (200, 202) and fe.builds_started == 1
     _, r = _poll(client, f"{API}/fe/carbody", params, timeout=30)

@@ -29,11 +29,15 @@ PG_BASE = os.environ.get("FLEXRIDE_TEST_PG_URL",
 REDIS_BASE = os.environ.get("FLEXRIDE_TEST_REDIS_URL", "redis://127.0.0.1:6379")
 SHORT = {"duration_s": 1.5, "distance_m": None}
 """Overrides of a short real run (1.5 s simulated)."""
+TEST_TOKEN = "Qm7vR2xK9pLw4ZtB-e3Nc"
+"""An API token strong enough for the service (tests only)."""
 
 
 def make_settings(data_dir: Path, **kw: Any) -> Settings:
-    """Settings for a test: data and caches under ``data_dir``, no runner unless given."""
+    """Settings for a test: data and caches under ``data_dir``, no runner unless given, and
+    ``testserver`` (the host of fastapi's TestClient) among the allowed hosts."""
     kw.setdefault("runner", "none")
+    kw.setdefault("allowed_hosts", "testserver")
     kw.setdefault("cache_dir", data_dir / "cache")
     kw.setdefault("frontend_dir", None)
     return Settings(_env_file=None, data_dir=data_dir, **kw)

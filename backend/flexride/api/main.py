@@ -1,5 +1,7 @@
-"""The FastAPI application: routers under ``/api/v1``, error handlers, body-size limit, the
-job runner and the reaper started with the app, and the static files (dashboard at ``/`` when
+"""The FastAPI application: routers under ``/api/v1``, error handlers, the middleware (Host
+check, complete ``Allow`` on 405, body-size limit), the job runner and the reaper started with
+the app, the API docs (``/docs``, ``/redoc``: their assets served from the installed
+``fastapi-offline`` package, no CDN) and the static files (dashboard at ``/`` when
 ``frontend/`` exists, ``/static/plotly.min.js`` from the installed plotly package).
 
 Run it with ``flexride serve``, or ``uvicorn --factory flexride.api.main:create_app``.
@@ -7,30 +9,39 @@ Run it with ``flexride serve``, or ``uvicorn --factory flexride.api.main:create_
 
 from __future__ import annotations
 
+import base64
+import hashlib
 import logging
+import re
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
 
-from fastapi import FastAPI
+from fastapi import FastAPI, Request
 from fastapi.middleware.gzip import GZipMiddleware
-from fastapi.responses import FileResponse, RedirectResponse
+from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
+from fastapi.responses import FileResponse, HTMLResponse, RedirectResponse
 from fastapi.staticfiles import StaticFiles
 
 from flexride import __version__
 from flexride.api.deps import Services
 from flexride.api.errors import ERROR_RESPONSES, SafeJSONResponse, install_error_handlers
-from flexride.api.middleware import BodySizeLimit
+from flexride.api.middleware import BodySizeLimit, MethodNotAllowed, TrustedHosts
 from flexride.api.routes import api_router
 from flexride.api.schemas import ErrorResponse
 from flexride.api.services.fe import FEBuilds
+from flexride.api.services.jobs import sweep_deleted
 from flexride.jobs.factory import make_runner
 from flexride.jobs.reaper import Reaper
-from flexride.settings import API_PREFIX, Settings, get_settings
+from flexride.settings import API_PREFIX, Settings, get_settings, token_problem
 from flexride.store import JobStore, ResultFiles
 from flexride.study.submit import Submitter
 
 log = logging.getLogger(__name__)
+
+DOCS_ASSETS_URL = "/static/docs"
+"""Where the Swagger UI and ReDoc files of ``fastapi-offline`` are served."""
+_INLINE_SCRIPT = re.compile(r"<script>(.*?)</script>", re.S)
 
 TAGS = [
     {"name": "jobs", "description": "Submit, follow, cancel and delete simulation jobs."},
@@ -40,6 +51,8 @@ TAGS = [
      "parameters, with tables ready to plot."},
     {"name": "fe", "description": "FE meshes and mode shapes of the flexible car body and "
      "bogie frames, by model parameters or of a job, built in the background."},
+    {"name": "uploads", "description": "Measured track irregularities uploaded as CSV, "
+     "stored by content hash and referred to by that id in scenarios."},
     {"name": "presets", "description": "Named scenarios and JSON schemas."},
     {"name": "service", "description": "Health and version."},
 ]
@@ -54,7 +67,7 @@ def build_services(settings: Settings) -> Services:
     submitter = Submitter(store, files, runner, settings)
     return Services(settings=settings, store=store, files=files, runner=runner,
                     submitter=submitter, reaper=Reaper(store, runner, settings),
-                    fe=FEBuilds(settings.cache_dir))
+                    fe=FEBuilds(settings.cache_dir), uploads=submitter.uploads)
 
 
 def plotly_js_path() -> Path | None:
@@ -65,6 +78,62 @@ def plotly_js_path() -> Path | None:
         return None
     p = Path(plotly.__file__).parent / "package_data" / "plotly.min.js"
     return p if p.is_file() else None
+
+
+def docs_assets_dir() -> Path | None:
+    """The Swagger UI and ReDoc files (``swagger-ui-bundle.js``, ``swagger-ui.css``,
+    ``redoc.standalone.js``, ``favicon.png``) of the installed ``fastapi-offline`` package."""
+    try:
+        import fastapi_offline
+    except ImportError:  # pragma: no cover - fastapi-offline is a dependency
+        return None
+    p = Path(fastapi_offline.__file__).parent / "static"
+    return p if (p / "swagger-ui-bundle.js").is_file() else None
+
+
+def _same_origin_only(page: HTMLResponse) -> HTMLResponse:
+    """``page`` with a Content-Security-Policy that lets it load nothing from elsewhere (ReDoc
+    would fetch its logo from cdn.redoc.ly) and run only its own scripts (inline ones by
+    hash)."""
+    html = page.body.decode() if isinstance(page.body, bytes) else str(page.body)
+    hashes = " ".join(
+        "'sha256-" + base64.b64encode(hashlib.sha256(s.encode()).digest()).decode() + "'"
+        for s in _INLINE_SCRIPT.findall(html))
+    page.headers["Content-Security-Policy"] = (
+        f"default-src 'self'; script-src 'self' {hashes}; style-src 'self' 'unsafe-inline'; "
+        "img-src 'self' data:; font-src 'self' data:; worker-src 'self' blob:; "
+        "object-src 'none'; base-uri 'none'; frame-ancestors 'self'")
+    return page
+
+
+def _docs(app: FastAPI) -> None:
+    """``/docs`` (Swagger UI) and ``/redoc`` (ReDoc) loading their scripts, styles and icon
+    from this service (``DOCS_ASSETS_URL``) instead of a CDN, so they work offline."""
+    assets = docs_assets_dir()
+    if assets is None:  # pragma: no cover
+        log.warning("fastapi-offline is not installed: /docs and /redoc have no scripts")
+    else:
+        app.mount(DOCS_ASSETS_URL, StaticFiles(directory=assets), name="docs-assets")
+    openapi_url = app.openapi_url or f"{API_PREFIX}/openapi.json"
+
+    async def swagger_ui(request: Request) -> HTMLResponse:
+        root = request.scope.get("root_path", "") + DOCS_ASSETS_URL
+        return _same_origin_only(get_swagger_ui_html(
+            openapi_url=request.scope.get("root_path", "") + openapi_url,
+            title=f"{app.title} - Swagger UI", swagger_js_url=f"{root}/swagger-ui-bundle.js",
+            swagger_css_url=f"{root}/swagger-ui.css", swagger_favicon_url=f"{root}/favicon.png",
+            # no badge image from validator.swagger.io
+            swagger_ui_parameters={"validatorUrl": None}))
+
+    async def redoc(request: Request) -> HTMLResponse:
+        root = request.scope.get("root_path", "") + DOCS_ASSETS_URL
+        return _same_origin_only(get_redoc_html(
+            openapi_url=request.scope.get("root_path", "") + openapi_url,
+            title=f"{app.title} - ReDoc", redoc_js_url=f"{root}/redoc.standalone.js",
+            redoc_favicon_url=f"{root}/favicon.png", with_google_fonts=False))
+
+    app.add_route("/docs", swagger_ui, include_in_schema=False)
+    app.add_route("/redoc", redoc, include_in_schema=False)
 
 
 def _static(app: FastAPI, settings: Settings) -> None:
@@ -95,8 +164,16 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     ----------
     settings : Settings, optional
         Configuration; read from ``FLEXRIDE_*`` environment variables by default.
+
+    Raises
+    ------
+    ValueError
+        When the settings carry a weak API token (see :func:`flexride.settings.token_problem`).
     """
     settings = settings or get_settings()
+    problem = token_problem(settings.api_token)
+    if problem:  # settings made without validation (Settings() itself refuses it)
+        raise ValueError(f"FLEXRIDE_API_TOKEN: {problem}")
     if not logging.getLogger().handlers:
         logging.basicConfig(level=settings.log_level.upper(),
                             format="%(asctime)s %(levelname)s %(name)s: %(message)s")
@@ -104,6 +181,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     @asynccontextmanager
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
+        sweep_deleted(services)
         services.runner.start()
         services.reaper.start()
         services.fe.start()
@@ -124,8 +202,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         "simulation jobs, studies and their results. Mutating endpoints need "
         "`Authorization: Bearer <token>` when the service has a token.",
         openapi_url=f"{API_PREFIX}/openapi.json",
-        docs_url="/docs",
-        redoc_url="/redoc",
+        docs_url=None,  # served by _docs, without a CDN
+        redoc_url=None,
         openapi_tags=TAGS,
         default_response_class=SafeJSONResponse,
         lifespan=lifespan,
@@ -136,5 +214,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(api_router, prefix=API_PREFIX, responses=responses)
     app.add_middleware(GZipMiddleware, minimum_size=4096, compresslevel=1)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
+    app.add_middleware(MethodNotAllowed, router=app.router)
+    app.add_middleware(TrustedHosts, allowed=settings.trusted_hosts)
+    _docs(app)
     _static(app, settings)
     return app

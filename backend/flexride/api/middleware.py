@@ -1,12 +1,29 @@
-"""ASGI middleware limiting the size of request bodies (413 beyond the limit), whether the
-client announces the length or streams the body in chunks."""
+"""ASGI middleware of the API.
+
+* :class:`BodySizeLimit`: request bodies beyond the limit get 413, whether the client announces
+  the length or streams the body in chunks;
+* :class:`TrustedHosts`: requests whose ``Host`` header names another host get 400 (no DNS
+  rebinding: a page on a foreign domain cannot reach the service through a browser);
+* :class:`MethodNotAllowed`: a known path asked with a method it does not have gets 405 with
+  the complete ``Allow`` header (Starlette names only the first route of the path, and the
+  dashboard mounted at ``/`` would answer with its own).
+"""
 
 from __future__ import annotations
 
 import json
+from collections.abc import Iterable
 from typing import Any
 
 from starlette.exceptions import HTTPException
+from starlette.routing import BaseRoute, Match, Router
+
+try:  # FastAPI ≥ 0.130 keeps included routers whole; this walks their effective routes
+    from fastapi.routing import iter_route_contexts as _route_contexts
+except ImportError:  # pragma: no cover - older FastAPI copies every route into the app
+
+    def _route_contexts(routes: Iterable[BaseRoute]) -> Iterable[BaseRoute]:
+        return routes
 
 
 class _TooLarge(HTTPException):
@@ -33,11 +50,7 @@ class BodySizeLimit:
         self.max_bytes = int(max_bytes)
 
     async def _reply(self, send: Any, status: int, message: str) -> None:
-        body = json.dumps({"detail": message, "message": message}).encode()
-        await send({"type": "http.response.start", "status": status,
-                    "headers": [(b"content-type", b"application/json"),
-                                (b"content-length", str(len(body)).encode())]})
-        await send({"type": "http.response.body", "body": body})
+        await reply_json(send, status, message)
 
     async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
         if scope["type"] != "http":
@@ -78,3 +91,125 @@ class BodySizeLimit:
             if not started:
                 await self._reply(send, 413, f"request body exceeds the limit of "
                                   f"{self.max_bytes} bytes")
+
+
+async def reply_json(send: Any, status: int, message: str,
+                     headers: Iterable[tuple[bytes, bytes]] = ()) -> None:
+    """Send a complete JSON error response ``{"detail": message, "message": message}``.
+
+    Parameters
+    ----------
+    send : ASGI send callable
+        Where the response goes.
+    status : int
+        HTTP status code.
+    message : str
+        The error text.
+    headers : iterable of (bytes, bytes)
+        Extra response headers.
+    """
+    body = json.dumps({"detail": message, "message": message}).encode()
+    await send({"type": "http.response.start", "status": status,
+                "headers": [(b"content-type", b"application/json"),
+                            (b"content-length", str(len(body)).encode()), *headers]})
+    await send({"type": "http.response.body", "body": body})
+
+
+def host_name(value: str) -> str:
+    """The host of a ``Host`` header or an allowed-host entry: lower case, without port,
+    brackets (IPv6) or a trailing dot; ``""`` when it cannot be parsed.
+
+    Examples
+    --------
+    >>> host_name("LocalHost:8000"), host_name("[::1]:8000"), host_name("example.org.")
+    ('localhost', '::1', 'example.org')
+    """
+    value = value.strip().lower()
+    if value.startswith("["):
+        end = value.find("]")
+        return value[1:end] if end > 0 else ""
+    if value.count(":") == 1:
+        value = value.split(":", 1)[0]
+    return value.rstrip(".")
+
+
+class TrustedHosts:
+    """Answer only requests whose ``Host`` header names one of ``allowed`` (400 with a JSON
+    error otherwise, also without a ``Host`` header).
+
+    Parameters
+    ----------
+    app : ASGI application
+        The wrapped application.
+    allowed : iterable of str
+        Host names, with or without port (ignored); ``*.example.org`` accepts its
+        subdomains, ``*`` any host.
+    """
+
+    def __init__(self, app: Any, allowed: Iterable[str]):
+        self.app = app
+        names = {host_name(h) if not h.strip().startswith("*") else h.strip().lower()
+                 for h in allowed}
+        self.any = "*" in names
+        self.suffixes = tuple(n[1:] for n in names if n.startswith("*."))
+        self.names = frozenset(n for n in names if n and not n.startswith("*"))
+
+    def allows(self, header: str) -> bool:
+        """Whether a request with ``Host: header`` is answered."""
+        if self.any:
+            return True
+        name = host_name(header)
+        return bool(name) and (name in self.names or name.endswith(self.suffixes))
+
+    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        if scope["type"] == "http" and not self.any:
+            header = next((v.decode("latin-1") for k, v in scope.get("headers", ())
+                           if k == b"host"), "")
+            if not self.allows(header):
+                shown = header[:100] if header else "(none)"
+                await reply_json(send, 400, f"invalid Host header {shown!r}: this service "
+                                 "answers only its own host names (FLEXRIDE_ALLOWED_HOSTS)")
+                return
+        await self.app(scope, receive, send)
+
+
+class MethodNotAllowed:
+    """405 with ``Allow`` listing every method of the path, for a path that some route has
+    but not with the request's method.
+
+    Parameters
+    ----------
+    app : ASGI application
+        The wrapped application.
+    router : starlette.routing.Router
+        The application's router; its routes are read at each request (mounts are left to
+        themselves: static files answer 405 with ``Allow: GET, HEAD``).
+    """
+
+    def __init__(self, app: Any, router: Router):
+        self.app = app
+        self.router = router
+
+    def allowed_methods(self, scope: dict) -> set[str] | None:
+        """The methods of the routes whose path matches, or None when a route takes the
+        request as it is (or no route has the path)."""
+        allowed: set[str] = set()
+        for route in _route_contexts(self.router.routes):
+            methods = getattr(route, "methods", None)
+            if not methods:
+                continue  # mounts, websocket routes
+            match, _ = route.matches(scope)
+            if match is Match.FULL:
+                return None
+            if match is Match.PARTIAL:
+                allowed |= methods
+        return allowed or None
+
+    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        if scope["type"] == "http":
+            allowed = self.allowed_methods(scope)
+            if allowed is not None:
+                await reply_json(send, 405, "Method Not Allowed",
+                                 [(b"allow", ", ".join(sorted(allowed)).encode())])
+                return
+        await self.app(scope, receive, send)

@@ -45,9 +45,12 @@ class ErrorResponse(BaseModel):
 class JobCreate(_Strict):
     """A simulation job: a full scenario, or a preset with dotted-path overrides."""
 
+    # Examples are published without null values (FastAPI drops None from the OpenAPI
+    # document): a preset's run length is changed by giving its own field (distance_m here),
+    # or duration_s in a scenario that starts from the preset (which then drops distance_m).
+    # tests/api/test_conformance.py submits every example.
     model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
-        {"preset": "paper-random-straight-80",
-         "overrides": {"duration_s": 2.0, "distance_m": None}},
+        {"preset": "paper-random-straight-80", "overrides": {"distance_m": 40.0}},
         {"scenario": {"preset": "paper-metro", "speed_kmh": 60, "duration_s": 2.0},
          "name": "metro-60", "reuse": False},
     ]})
@@ -335,10 +338,13 @@ class StudyCreate(_Strict):
     the preset's. ``overrides`` apply to every job, last (e.g. a shorter ``duration_s``).
     """
 
+    # No null values in examples (see JobCreate); every example is submitted by
+    # tests/api/test_conformance.py.
     model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
-        {"name": "speeds", "base": {"preset": "paper-random-straight-80"},
-         "speeds_kmh": [60, 80], "overrides": {"duration_s": 6.0, "distance_m": None}},
-        {"preset": "paper-table3", "overrides": {"duration_s": 6.0, "distance_m": None}},
+        {"name": "speeds",
+         "base": {"scenario": {"preset": "paper-random-straight-80", "duration_s": 6.0}},
+         "speeds_kmh": [60, 80]},
+        {"preset": "paper-table3", "overrides": {"distance_m": 150.0}},
     ]})
 
     name: str | None = Field(None, pattern=_NAME_PATTERN)
@@ -513,6 +519,9 @@ class HealthOut(BaseModel):
     runner: str
     api: ComponentHealth
     database: ComponentHealth
+    storage: ComponentHealth | None = Field(
+        None, description="Whether the results and upload directories and the database take "
+        "writes (status degraded when not)")
     broker: ComponentHealth | None = None
     workers: list[WorkerOut]
     jobs: dict[str, int]
@@ -584,3 +593,17 @@ class FEBuildStatus(BaseModel):
     retry_after_s: int = Field(description="Ask again after this many seconds "
                                "(also the Retry-After header)")
     message: str
+
+
+class UploadOut(BaseModel):
+    """A stored upload of measured irregularities (refer to it as
+    ``{"kind": "measured", "upload": id}`` in a scenario)."""
+
+    id: str = Field(description="SHA-256 of the content (64 hexadecimal digits)")
+    bytes: int = Field(description="Size of the content (bytes)")
+    rows: int = Field(description="Measurement points")
+    columns: list[str] = Field(description="Irregularity columns found (m)")
+    distance_start_m: float = Field(description="Start of the measured stretch (m)")
+    distance_end_m: float = Field(description="End of the measured stretch (m)")
+    median_spacing_m: float = Field(description="Median distance between points (m)")
+    links: dict[str, str] = Field(description="URLs of the upload's resources")

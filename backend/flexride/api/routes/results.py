@@ -7,6 +7,7 @@ from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Path, Query
 from fastapi.responses import FileResponse
+from pydantic import StringConstraints
 
 from flexride.api.deps import ServicesDep
 from flexride.api.errors import SafeJSONResponse
@@ -24,7 +25,7 @@ router = APIRouter(prefix="/jobs/{job_id}", tags=["results"],
                    responses={409: {"description": "The job has no results (yet)"}})
 
 JobId = Annotated[str, Path(min_length=1, max_length=64, description="Job id")]
-Channels = Annotated[list[str], Query(
+Channels = Annotated[list[Annotated[str, StringConstraints(min_length=1, max_length=120)]], Query(
     description="Channel names (repeat the parameter), e.g. carbody.PR.acc.z")]
 Dynamic = Annotated[bool, Query(
     description="Remove the quasi-static part (< 0.3 Hz) first, as the summary does")]

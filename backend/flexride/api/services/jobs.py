@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import os
+from dataclasses import asdict
 from datetime import UTC, datetime
+from pathlib import Path
 from typing import Any
 
 from flexride.api.deps import Services
@@ -11,6 +14,9 @@ from flexride.api.schemas import JobCreate
 from flexride.settings import API_PREFIX
 from flexride.store import Job, now
 from flexride.study.scenarios import resolve_scenario
+
+DELETING_PREFIX = ".deleting-"
+"""Prefix of a result file whose job is being deleted."""
 
 
 def iso(t: float | None) -> datetime | None:
@@ -67,13 +73,16 @@ def create_job(svc: Services, body: JobCreate) -> dict[str, Any]:
     return {**job_out(sub.job, svc), "reused": sub.reused, "preflight": sub.preflight}
 
 
-def validate_job(body: JobCreate) -> dict[str, Any]:
+def validate_job(svc: Services, body: JobCreate) -> dict[str, Any]:
     """Validate and check a job request exactly as :func:`create_job` does, without creating
-    anything: 200 with the submission check, or the same 422 as a submission."""
+    anything: 200 with the run's size and the submission check, or the same 422 as a
+    submission."""
     from flexride.study.scenarios import check_submission
 
     scenario = resolve_scenario(body.scenario, body.preset, body.overrides)
-    return {"valid": True, "preflight": check_submission(scenario)}
+    est = svc.submitter.admit(scenario)
+    return {"valid": True, "estimate": asdict(est),
+            "preflight": check_submission(scenario, cache=svc.submitter.cache)}
 
 
 def get_job(svc: Services, job_id: str, *, scenario: bool = False,
@@ -115,10 +124,43 @@ def cancel_job(svc: Services, job_id: str) -> dict[str, Any]:
 
 
 def delete_job(svc: Services, job_id: str) -> None:
-    """Delete a job's record and its result file (a running job is cancelled)."""
-    job = svc.store.delete_job(job_id)
-    if job is None:
+    """Delete a job's record and its result file (a running job is cancelled).
+
+    Never leaves a record without its file nor a file without its record: the file is first
+    renamed aside (a read-only results directory fails here, with nothing changed), then the
+    record is deleted (a refusing database puts the file back), then the file is removed
+    (a crash before that leaves only a ``.deleting-`` file, swept at the next start).
+    """
+    job = get_job(svc, job_id)
+    aside = _set_aside(svc, job.result_file)
+    try:
+        deleted = svc.store.delete_job(job_id)
+    except BaseException:
+        if aside is not None:
+            os.replace(aside, svc.files.path(str(job.result_file)))
+        raise
+    if aside is not None:
+        aside.unlink(missing_ok=True)
+    if deleted is None:
         raise NotFound(f"no job {job_id!r}")
-    if job.status in ("queued", "running"):
+    if deleted.status in ("queued", "running"):
         svc.runner.cancel(job_id)
-    svc.files.delete(job.result_file)
+
+
+def _set_aside(svc: Services, name: str | None) -> Path | None:
+    """Rename result file ``name`` to ``.deleting-<name>``; None when there is no file."""
+    if not name or not svc.files.exists(name):
+        return None
+    path = svc.files.path(name)
+    aside = path.with_name(f"{DELETING_PREFIX}{path.name}")
+    os.replace(path, aside)
+    return aside
+
+
+def sweep_deleted(svc: Services) -> int:
+    """Remove result files left aside by deletions that did not finish; return how many."""
+    n = 0
+    for p in svc.files.root.glob(f"{DELETING_PREFIX}*.h5"):
+        p.unlink(missing_ok=True)
+        n += 1
+    return n
