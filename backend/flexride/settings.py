@@ -206,6 +206,10 @@ class Settings(BaseSettings):
         description="Caches: numba kernels, reduced FE bodies (fem-<version>/) and their "
         "browser exports served by GET /fe (fe-export-<version>/)",
     )
+    fe_wait_s: float = Field(
+        3.0, ge=0.0, le=60.0,
+        description="How long GET /fe waits for a running FE build before answering 202 (s)",
+    )
     celery_queue: str = Field("flexride", description="Celery queue of the simulation jobs")
     log_level: str = Field("info", description="Log level of the service and the workers")
 

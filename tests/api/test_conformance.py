@@ -49,15 +49,18 @@ def _template_regex(template: str) -> re.Pattern[str]:
     return re.compile("^" + re.sub(r"\{[^}]+\}", "[^/]+", template) + "$")
 
 
-def _routes(spec: dict[str, Any]) -> dict[str, set[str]]:
-    """Concrete paths (parameters filled in) of every route, with the methods of all routes
-    whose path matches them."""
+def _routes(spec: dict[str, Any]) -> dict[str, tuple[set[str], set[str]]]:
+    """Every route's path with its parameters filled in: the methods of its own template, and
+    those of every template that matches it (``/jobs/validate`` also matches
+    ``/jobs/{job_id}``, whose GET and DELETE therefore answer there, with 404)."""
     templates = {path: {m.upper() for m in ops} for path, ops in spec["paths"].items()}
     templates.update(OTHER_ROUTES)
-    concrete = {re.sub(r"\{[^}]+\}", "x", t) for t in templates}
-    return {path: set().union(*(methods for t, methods in templates.items()
-                                if _template_regex(t).match(path)))
-            for path in concrete}
+    routes = {}
+    for template, methods in templates.items():
+        path = re.sub(r"\{[^}]+\}", "x", template)
+        matching = [m for t, m in templates.items() if _template_regex(t).match(path)]
+        routes[path] = (methods, set().union(*matching))
+    return routes
 
 
 def _allow(response: Any) -> set[str]:
@@ -66,13 +69,15 @@ def _allow(response: Any) -> set[str]:
 
 def test_405_names_every_allowed_method(make_client):
     """On every route (with the dashboard mounted at /, as `flexride serve` has it): each
-    method the path does not have gives 405, JSON, and Allow listing exactly its methods."""
+    method that no route has for the path gives 405, JSON, and Allow listing exactly the
+    methods the OpenAPI document gives the path."""
     client = make_client(frontend_dir=REPO / "frontend")
     routes = _routes(client.get(f"{API}/openapi.json").json())
-    assert routes[f"{API}/jobs"] == {"GET", "POST"}
-    assert routes[f"{API}/jobs/x"] == {"GET", "DELETE"}
-    for path, allowed in sorted(routes.items()):
-        for method in sorted(set(METHODS) - allowed):
+    assert routes[f"{API}/jobs"] == ({"GET", "POST"},) * 2
+    assert routes[f"{API}/jobs/x"] == ({"GET", "DELETE"},) * 2
+    assert routes[f"{API}/jobs/validate"] == ({"POST"}, {"POST", "GET", "DELETE"})
+    for path, (allowed, routed) in sorted(routes.items()):
+        for method in sorted(set(METHODS) - routed):
             r = client.request(method, path)
             assert r.status_code == 405, (method, path, r.status_code, r.text)
             assert _allow(r) == allowed, (method, path, r.headers.get("allow"))

@@ -133,7 +133,9 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     cache (FE models are built by the session that asks for them)."""
     data_dir = tmp_path_factory.mktemp("flexride-data")
     cache_dir = tmp_path_factory.mktemp("flexride-cache")
-    live = start_server(data_dir, workers=2, cache_dir=cache_dir, log=data_dir / "serve.log")
+    # a new FE build answers 202 at once, so the views' "building" state is always seen
+    live = start_server(data_dir, workers=2, cache_dir=cache_dir, log=data_dir / "serve.log",
+                        env={"FLEXRIDE_FE_WAIT_S": "0"})
     try:
         yield Server(live, cache_dir)
     finally:

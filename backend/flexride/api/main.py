@@ -67,7 +67,7 @@ def build_services(settings: Settings) -> Services:
     submitter = Submitter(store, files, runner, settings)
     return Services(settings=settings, store=store, files=files, runner=runner,
                     submitter=submitter, reaper=Reaper(store, runner, settings),
-                    fe=FEBuilds(settings.cache_dir), uploads=submitter.uploads)
+                    fe=FEBuilds(settings.cache_dir, wait_s=settings.fe_wait_s), uploads=submitter.uploads)
 
 
 def plotly_js_path() -> Path | None:
@@ -96,11 +96,11 @@ def _same_origin_only(page: HTMLResponse) -> HTMLResponse:
     would fetch its logo from cdn.redoc.ly) and run only its own scripts (inline ones by
     hash)."""
     html = page.body.decode() if isinstance(page.body, bytes) else str(page.body)
-    hashes = " ".join(
+    scripts = " ".join(["'self'", *(
         "'sha256-" + base64.b64encode(hashlib.sha256(s.encode()).digest()).decode() + "'"
-        for s in _INLINE_SCRIPT.findall(html))
+        for s in _INLINE_SCRIPT.findall(html))])
     page.headers["Content-Security-Policy"] = (
-        f"default-src 'self'; script-src 'self' {hashes}; style-src 'self' 'unsafe-inline'; "
+        f"default-src 'self'; script-src {scripts}; style-src 'self' 'unsafe-inline'; "
         "img-src 'self' data:; font-src 'self' data:; worker-src 'self' blob:; "
         "object-src 'none'; base-uri 'none'; frame-ancestors 'self'")
     return page

@@ -177,6 +177,11 @@ class MethodNotAllowed:
     """405 with ``Allow`` listing every method of the path, for a path that some route has
     but not with the request's method.
 
+    The path is the first route template (in routing order) that matches the request's path,
+    so ``Allow`` names the methods the OpenAPI document gives that path: ``PUT
+    /jobs/validate`` names ``POST`` only, although ``GET /jobs/validate`` reaches the route
+    of ``/jobs/{job_id}`` (and answers 404).
+
     Parameters
     ----------
     app : ASGI application
@@ -191,9 +196,10 @@ class MethodNotAllowed:
         self.router = router
 
     def allowed_methods(self, scope: dict) -> set[str] | None:
-        """The methods of the routes whose path matches, or None when a route takes the
-        request as it is (or no route has the path)."""
+        """The methods of the first route template that matches the path, or None when a
+        route takes the request as it is (or no route has the path)."""
         allowed: set[str] = set()
+        template = None
         for route in _route_contexts(self.router.routes):
             methods = getattr(route, "methods", None)
             if not methods:
@@ -201,7 +207,8 @@ class MethodNotAllowed:
             match, _ = route.matches(scope)
             if match is Match.FULL:
                 return None
-            if match is Match.PARTIAL:
+            if match is Match.PARTIAL and template in (None, route.path_format):
+                template = route.path_format
                 allowed |= methods
         return allowed or None
 
