@@ -67,7 +67,8 @@ def build_services(settings: Settings) -> Services:
     submitter = Submitter(store, files, runner, settings)
     return Services(settings=settings, store=store, files=files, runner=runner,
                     submitter=submitter, reaper=Reaper(store, runner, settings),
-                    fe=FEBuilds(settings.cache_dir, wait_s=settings.fe_wait_s), uploads=submitter.uploads)
+                    fe=FEBuilds(settings.cache_dir, wait_s=settings.fe_wait_s),
+                    uploads=submitter.uploads)
 
 
 def plotly_js_path() -> Path | None:
