@@ -13,12 +13,12 @@ from typing import Annotated, Any
 
 import numpy as np
 import typer
-import yaml
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
 
 from flexride.errors import FlexrideError, ScenarioError
+from flexride.model.loading import parse_text
 
 app = typer.Typer(
     add_completion=False,
@@ -34,72 +34,25 @@ def _fail(message: str, code: int = 2) -> None:
     raise typer.Exit(code)
 
 
-MAX_NESTING = 64
-"""Deepest nesting of mappings and lists accepted in a scenario file (scenarios need < 10)."""
-MAX_NODES = 2_000_000
-"""Most values (mappings, lists and scalars, aliases counted each time) in a scenario file."""
-
-
-def _check_shape(data: Any, source: str) -> None:
-    """Refuse data nested deeper than ``MAX_NESTING`` or with more than ``MAX_NODES`` values
-    (YAML aliases can make a small file expand to a huge tree)."""
-    stack, nodes = [(data, 1)], 0
-    while stack:
-        node, depth = stack.pop()
-        nodes += 1
-        if depth > MAX_NESTING:
-            raise ScenarioError(f"{source}: nested more than {MAX_NESTING} levels deep")
-        if nodes > MAX_NODES:
-            raise ScenarioError(f"{source}: more than {MAX_NODES:,} values")
-        children = node.values() if isinstance(node, dict) else node if isinstance(
-            node, list) else ()
-        stack.extend((child, depth + 1) for child in children)
-
-
-def _parse_text(text: str, as_json: bool, source: str) -> Any:
-    """Parse YAML (or JSON) text into plain data, with one-line errors (ScenarioError) for
-    syntax errors and for data nested too deeply or too large (see :func:`_check_shape`)."""
-    try:
-        data = json.loads(text) if as_json else yaml.safe_load(text)
-    except (json.JSONDecodeError, yaml.YAMLError) as exc:
-        raise ScenarioError(f"{source}: cannot parse: {str(exc).splitlines()[0]}") from None
-    except RecursionError:  # the parsers recurse per level of nesting
-        raise ScenarioError(f"{source}: nested more than {MAX_NESTING} levels deep") from None
-    _check_shape(data, source)
-    return data
-
-
 def _parse_set(items: list[str]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for item in items:
         if "=" not in item:
             raise ScenarioError(f"--set expects PATH=VALUE, got {item!r}")
         key, value = item.split("=", 1)
-        out[key.strip()] = _parse_text(value, False, f"--set {key.strip()}")
+        out[key.strip()] = parse_text(value, False, f"--set {key.strip()}")
     return out
 
 
 def _load(scenario_file: Path | None, preset: str | None, overrides: dict[str, Any]):
-    from flexride.model.presets import preset_dict
-    from flexride.model.scenario import apply_overrides, scenario_from_dict
+    from flexride.model.loading import read_scenario_file, resolve_scenario
 
     if (scenario_file is None) == (preset is None):
         raise ScenarioError("give either a scenario file or --preset NAME (not both)")
-    if preset is not None:
-        data = preset_dict(preset)
-        source = f"preset {preset}"
-    else:
-        if not scenario_file.is_file():
-            raise ScenarioError(f"scenario file not found: {scenario_file}")
-        try:
-            text = scenario_file.read_text(encoding="utf-8")
-        except UnicodeDecodeError as exc:
-            raise ScenarioError(f"{scenario_file}: not UTF-8 text (byte {exc.start})") from None
-        data = _parse_text(text, scenario_file.suffix.lower() == ".json", str(scenario_file))
-        source = scenario_file.name
-        if not isinstance(data, dict):
-            raise ScenarioError(f"{source}: a scenario must be a mapping")
-    return scenario_from_dict(apply_overrides(data, overrides), source=source)
+    if scenario_file is not None:
+        return resolve_scenario(read_scenario_file(scenario_file), overrides=overrides,
+                                source=scenario_file.name)
+    return resolve_scenario(preset=preset, overrides=overrides)
 
 
 def run_summary(results) -> dict[str, Any]:

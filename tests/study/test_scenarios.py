@@ -6,11 +6,10 @@ import pytest
 
 import flexride.study.scenarios as sc
 from flexride.errors import ScenarioError, StabilityError
+from flexride.model.loading import check_finite, resolve_scenario, safe_overrides
 from flexride.study.scenarios import (
     PreflightCache,
     check_submission,
-    resolve_scenario,
-    safe_overrides,
     scenario_hash,
     stability_key,
 )
@@ -51,7 +50,7 @@ def test_non_finite_values_are_refused():
                          overrides={"output.points": [{"name": "P", "x": 0.0,
                                                        "y": float("inf"), "z": 1.0}]})
     with pytest.raises(ScenarioError, match=r"a.1: must be a finite number"):
-        sc._check_finite({"a": [1.0, float("nan")]})  # fields without bounds
+        check_finite({"a": [1.0, float("nan")]})  # fields without bounds
     assert safe_overrides({"a": 1}, None) == {"a": 1}
 
 

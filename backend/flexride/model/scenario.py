@@ -6,7 +6,6 @@ import json
 from pathlib import Path
 from typing import Any
 
-import yaml
 from pydantic import Field, ValidationError, model_validator
 
 from flexride.errors import ScenarioError
@@ -118,22 +117,17 @@ def scenario_from_dict(data: dict[str, Any], source: str = "scenario") -> Scenar
 
 
 def load_scenario(path: str | Path) -> Scenario:
-    """Load a scenario from a YAML (``.yaml``/``.yml``) or JSON (``.json``) file.
+    """Load a scenario from a YAML (``.yaml``/``.yml``) or JSON (``.json``) file (bounded
+    parsing, presets and located errors of :mod:`flexride.model.loading`).
 
     Raises
     ------
     ScenarioError
         If the file is missing, unparsable or invalid (message names the field and range).
     """
-    p = Path(path)
-    if not p.is_file():
-        raise ScenarioError(f"scenario file not found: {p}")
-    text = p.read_text(encoding="utf-8")
-    try:
-        data = json.loads(text) if p.suffix.lower() == ".json" else yaml.safe_load(text)
-    except (json.JSONDecodeError, yaml.YAMLError) as exc:
-        raise ScenarioError(f"{p}: cannot parse: {str(exc).splitlines()[0]}") from None
-    return scenario_from_dict(data, source=str(p.name))
+    from flexride.model.loading import read_scenario_file, resolve_scenario
+
+    return resolve_scenario(read_scenario_file(path), source=Path(path).name)
 
 
 def apply_overrides(data: dict[str, Any], overrides: dict[str, Any]) -> dict[str, Any]:

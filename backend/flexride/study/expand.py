@@ -13,10 +13,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from flexride.errors import ScenarioError
+from flexride.model.loading import safe_overrides
 from flexride.model.presets import PAPER_CONDITIONS, preset_dict
 from flexride.model.scenario import Scenario, resolve_preset_base, scenario_from_dict
 from flexride.study.presets import study_preset
-from flexride.study.scenarios import safe_overrides
 
 
 class StudyTooLarge(ScenarioError):
@@ -135,7 +135,8 @@ def _base_data(base: dict[str, Any]) -> dict[str, Any]:
         if not isinstance(scen, dict):
             raise ScenarioError("base.scenario: must be a mapping")
         data = resolve_preset_base(scen) if "preset" in scen else scen
-    return safe_overrides(data, base.get("overrides"), source="base.overrides")
+    return safe_overrides(data, base.get("overrides"), source="base.overrides",
+                          loc=("base", "overrides"))
 
 
 def _label(value: Any) -> str:
@@ -177,7 +178,8 @@ def expand_study(request: dict[str, Any], max_jobs: int) -> StudyPlan:
         where = ", ".join(f"{k}={_label(v)}" for k, v in labels.items()) or "base"
         data = base
         for lv in combo:
-            data = safe_overrides(data, lv.values, source=f"study job {index} ({where})")
+            data = safe_overrides(data, lv.values, source=f"study job {index} ({where})",
+                                  loc=("parameters",))
         data = safe_overrides(data, req.get("overrides"), source="overrides")
         job_name = " ".join([name, *(_label(v) for v in labels.values())])[:80]
         data = {**data, "name": job_name}

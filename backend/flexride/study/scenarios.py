@@ -15,92 +15,12 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import json
-import math
 import threading
 from collections import OrderedDict
 from typing import Any
 
 from flexride.errors import FlexrideError, ScenarioError, StabilityError
-from flexride.model.presets import preset_dict
-from flexride.model.scenario import (
-    Scenario,
-    apply_overrides,
-    resolve_preset_base,
-    scenario_from_dict,
-)
-
-_MAX_PATH_DEPTH = 12
-
-
-def safe_overrides(data: dict[str, Any], overrides: dict[str, Any] | None,
-                   source: str = "overrides") -> dict[str, Any]:
-    """Apply dotted-path overrides, turning any failure into a :class:`ScenarioError`.
-
-    Parameters
-    ----------
-    data : dict
-        Scenario mapping (presets already resolved).
-    overrides : dict, optional
-        ``{"solver.dt": 5e-5, "excitation.0.seed": 3}``.
-    source : str
-        Prefix of error messages.
-    """
-    if not overrides:
-        return data
-    if not isinstance(overrides, dict):
-        raise ScenarioError(f"{source}: must be a mapping of dotted paths to values")
-    for path in overrides:
-        parts = path.split(".") if isinstance(path, str) else []
-        if not parts or any(not p.strip() for p in parts) or len(parts) > _MAX_PATH_DEPTH:
-            raise ScenarioError(f"{source}: {path!r} is not a dotted field path like 'solver.dt'")
-    out = data
-    for path, value in overrides.items():
-        try:
-            out = apply_overrides(out, {path: value})
-        except (KeyError, IndexError, ValueError, TypeError, AttributeError) as exc:
-            raise ScenarioError(f"{source}: cannot set {path!r}: {exc}") from None
-    return out
-
-
-def _check_finite(value: Any, path: str = "") -> None:
-    if isinstance(value, float) and not math.isfinite(value):
-        raise ScenarioError(f"scenario: {path or '(root)'}: must be a finite number, got {value}")
-    if isinstance(value, dict):
-        for k, v in value.items():
-            _check_finite(v, f"{path}.{k}" if path else str(k))
-    elif isinstance(value, list):
-        for i, v in enumerate(value):
-            _check_finite(v, f"{path}.{i}" if path else str(i))
-
-
-def resolve_scenario(
-    scenario: dict[str, Any] | None = None,
-    preset: str | None = None,
-    overrides: dict[str, Any] | None = None,
-) -> Scenario:
-    """Validated scenario from a full mapping (which may start from ``preset: NAME``) or from a
-    preset name, with optional dotted-path overrides.
-
-    Raises
-    ------
-    ScenarioError
-        Neither or both given, unknown preset, bad override path, or an invalid field (the
-        message names the path and the allowed range).
-    """
-    if (scenario is None) == (preset is None):
-        raise ScenarioError("give either 'scenario' or 'preset' (not both)")
-    if preset is not None:
-        data = preset_dict(preset)
-        source = f"preset {preset}"
-    else:
-        if not isinstance(scenario, dict):
-            raise ScenarioError("scenario: must be a mapping")
-        data = resolve_preset_base(scenario) if "preset" in scenario else scenario
-        source = "scenario"
-    data = safe_overrides(data, overrides)
-    result = scenario_from_dict(data, source=source)
-    _check_finite(result.model_dump(mode="json"))
-    return result
+from flexride.model.scenario import Scenario
 
 
 def canonical_json(data: Any) -> str:

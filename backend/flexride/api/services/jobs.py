@@ -11,9 +11,9 @@ from typing import Any
 from flexride.api.deps import Services
 from flexride.api.errors import Conflict, NotFound
 from flexride.api.schemas import JobCreate
+from flexride.model.loading import resolve_scenario
 from flexride.settings import API_PREFIX
 from flexride.store import Job, now
-from flexride.study.scenarios import resolve_scenario
 
 DELETING_PREFIX = ".deleting-"
 """Prefix of a result file whose job is being deleted."""
