@@ -5,15 +5,21 @@ Usage (from the repository root, with nothing but python3 installed)::
 
     python3 tools/dev.py serve    # create .venv, install flexride, start the service + dashboard
     python3 tools/dev.py run      # create .venv, install flexride, run the paper's 80 km/h case
-    python3 tools/dev.py test     # create .venv, install flexride with test extras, run pytest
+    python3 tools/dev.py test     # create .venv, install flexride with test extras, install or
+                                  # start what the tests need, run pytest
 
-Extra arguments go to ``flexride serve``, ``flexride run`` or pytest respectively.
+Extra arguments go to ``flexride serve``, ``flexride run`` or pytest respectively. Before the
+tests, ``test`` installs Debian's chromium, firefox-esr, xvfb and a Compose CLI with apt-get
+when they are missing, and starts (or installs) Redis and PostgreSQL
+(``tools/ensure_services.sh``); it stops with one line naming what is missing when it cannot.
+``FLEXRIDE_TEST_SETUP=skip`` leaves the machine as it is.
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import shutil
 import subprocess
 import sys
 import venv
@@ -55,6 +61,49 @@ def ensure_venv(extras: str = "") -> None:
     stamp.write_text(key)
 
 
+#: Debian packages the tests need, by the command that shows each is installed: the dashboard's
+#: browsers (never a browser download), a virtual display for Firefox's WebGL, a Compose CLI
+#: that validates docker-compose.yml.
+TEST_PACKAGES = {"chromium": "chromium", "firefox-esr": "firefox-esr", "Xvfb": "xvfb"}
+
+
+def _missing_packages() -> list[str]:
+    missing = [pkg for cmd, pkg in TEST_PACKAGES.items() if shutil.which(cmd) is None]
+    compose = shutil.which("docker-compose") or (
+        shutil.which("docker") and subprocess.call(
+            ["docker", "compose", "version"], stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL) == 0)
+    if not compose:
+        missing.append("docker-compose")
+    return missing
+
+
+def _as_root(cmd: list[str]) -> list[str]:
+    if os.geteuid() == 0:
+        return cmd
+    return ["sudo", "-n", *cmd] if shutil.which("sudo") else cmd
+
+
+def prepare_test_machine() -> str | None:
+    """Install or start what the tests need (Debian's browsers, Xvfb, a Compose CLI; Redis
+    and PostgreSQL via tools/ensure_services.sh); return why that failed, or None."""
+    missing = _missing_packages()
+    if missing:
+        print(f"installing {', '.join(missing)} with apt-get", flush=True)
+        env = {**os.environ, "DEBIAN_FRONTEND": "noninteractive"}
+        ok = (subprocess.call(_as_root(["apt-get", "update", "-qq"]), env=env) == 0 and
+              subprocess.call(_as_root(["apt-get", "install", "-y", "-qq", *missing]),
+                              env=env) == 0)
+        still = _missing_packages()
+        if not ok or still:
+            return (f"cannot install {', '.join(still or missing)} (needs apt-get as root); "
+                    "install them and run the tests again")
+    if subprocess.call(["bash", str(ROOT / "tools" / "ensure_services.sh")]) != 0:
+        return ("Redis (127.0.0.1:6379) or PostgreSQL (127.0.0.1:5432, database test) is not "
+                "reachable and could not be started; see the lines above")
+    return None
+
+
 def main(argv: list[str]) -> int:
     if not argv or argv[0] not in {"serve", "run", "test"}:
         print(__doc__)
@@ -73,7 +122,15 @@ def main(argv: list[str]) -> int:
         ]
         return subprocess.call([str(BIN / "flexride"), "run", *args], cwd=ROOT)
     ensure_venv("dev")
-    return subprocess.call([str(BIN / "python"), "-m", "pytest", *rest], cwd=ROOT)
+    if os.environ.get("FLEXRIDE_TEST_SETUP", "").lower() != "skip":
+        problem = prepare_test_machine()
+        if problem:
+            print(f"flexride tests: {problem}", file=sys.stderr)
+            return 2
+    # the browser tests fail, not skip, without a browser (FLEXRIDE_BROWSER_TESTS=optional
+    # lets them skip on a machine set up by hand)
+    env = {"FLEXRIDE_BROWSER_TESTS": "required", **os.environ}
+    return subprocess.call([str(BIN / "python"), "-m", "pytest", *rest], cwd=ROOT, env=env)
 
 
 if __name__ == "__main__":
