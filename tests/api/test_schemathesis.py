@@ -53,6 +53,8 @@ SENT: list[int] = []
 AUTH = {"Authorization": f"Bearer {TEST_TOKEN}"}
 LIVE_SENT: list[int] = []
 LIVE_SKIPPED: list[str] = []
+LIVE_SECRET = "live-env-secret-5c1d9e7a"
+"""A secret in the live server's environment that no answer may contain."""
 LIVE_EXAMPLES = 15
 """Examples per operation and mode (valid, invalid data) in the live run."""
 
@@ -66,6 +68,8 @@ def _count_live(ctx, response, case):
     """Counts the requests of the live run (and their status codes); a request that carried
     the token must not get 401 (invalid cases may leave the token out: those must)."""
     LIVE_SENT.append(response.status_code)
+    answer = response.text + " ".join(f"{k}: {v}" for k, v in response.headers.items())
+    assert TEST_TOKEN not in answer and LIVE_SECRET not in answer, (case.method, case.path)
     sent = response.request.headers.get("authorization")
     assert (response.status_code == 401) == (sent != AUTH["Authorization"] and case.method in (
         "POST", "DELETE")), (response.status_code, case.method, case.path, sent)
@@ -119,6 +123,7 @@ def live_url(tmp_path_factory):
     store.engine.dispose()
     server = start_server(data, cache_dir=data / "cache", log=data / "serve.log",
                           env={"FLEXRIDE_API_TOKEN": TEST_TOKEN, "FLEXRIDE_RUNNER": "none",
+                               "LIVE_PROBE_SECRET": LIVE_SECRET,
                                "FLEXRIDE_MAX_STUDY_JOBS": "8",
                                "FLEXRIDE_MAX_BODY_BYTES": str(64 * 1024)})
     try:
