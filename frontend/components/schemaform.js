@@ -1,5 +1,5 @@
 // A form generated from the scenario's JSON schema (GET /api/v1/schemas/scenario): groups,
-// units from the descriptions ("… (N/m)"), bounds checked as you type with the server's wording,
+// units from the schema's "unit" of each quantity, bounds checked as you type with the server's wording,
 // and the server's 422 messages shown at the field they name.
 
 import { h, prettyUnit } from "./dom.js";
@@ -15,23 +15,17 @@ export const GROUPS = [
   { id: "output", label: "Outputs", keys: ["output"] },
 ];
 
-/** Split "Text (unit)" into [text, unit] (balanced parentheses at the end). */
-export function splitUnit(desc) {
-  const s = String(desc || "").trim();
-  if (!s.endsWith(")")) return [s, null];
-  let depth = 0;
-  for (let i = s.length - 1; i >= 0; i--) {
-    if (s[i] === ")") depth++;
-    else if (s[i] === "(") {
-      depth--;
-      if (depth === 0) {
-        const unit = s.slice(i + 1, -1).trim();
-        if (!unit || unit.length > 24 || /\s{2,}|,|\bor\b|=/.test(unit)) return [s, null];
-        return [s.slice(0, i).trim(), unit];
-      }
-    }
-  }
-  return [s, null];
+/** Unit of a schema node: the schema's own `unit` (pydantic `quantity` fields), or null. */
+export function unitOf(node) {
+  return node?.unit ?? null;
+}
+
+/** Description of a schema node without the " (unit)" its schema closes it with. */
+export function plainDescription(node) {
+  const s = String(node?.description || "").trim();
+  const unit = unitOf(node);
+  const tail = unit ? ` (${unit})` : null;
+  return tail && s.endsWith(tail) ? s.slice(0, -tail.length).trim() : s;
 }
 
 const pyNum = (v) => (Number.isInteger(v) ? `${v}.0` : String(v));
@@ -64,7 +58,7 @@ export function humanKey(key) {
 
 /** [label, help] of a node: a short description is the label, a long one the help text. */
 function labelOf(node, key) {
-  const [text] = splitUnit(node?.description);
+  const text = plainDescription(node);
   const first = String(text || "").split("\n")[0].trim();
   if (first && first.length <= 48 && !/[.:;]\s/.test(first)) return [first, null];
   return [humanKey(key ?? node?.title), first || null];
@@ -110,7 +104,7 @@ export class SchemaForm {
       const nullable = nonNull.length < node.anyOf.length;
       if (nonNull.length === 1) {
         const inner = this.resolve(nonNull[0]);
-        return { ...inner, description: node.description, title: node.title, default: node.default, nullable, isScalar: ["number", "integer", "string", "boolean"].includes(inner.type) };
+        return { ...inner, description: node.description, unit: node.unit ?? inner.unit, title: node.title, default: node.default, nullable, isScalar: ["number", "integer", "string", "boolean"].includes(inner.type) };
       }
       return { ...node, nullable, isScalar: false };
     }
@@ -252,7 +246,7 @@ export class SchemaForm {
         this.validateAll(false);
         this.changed();
       } }, Object.keys(r.discriminator.mapping).map((k) => h("option", { value: k, selected: k === kind }, k)));
-      const [desc] = splitUnit(schema?.description || "");
+      const desc = plainDescription(schema);
       const fs = h("fieldset", { class: "obj" }, h("legend", {}, titleOf(r, key)),
         h("div", { class: "field field-wide" }, h("label", { for: id }, "Kind"), sel,
           desc ? h("p", { class: "help" }, desc.split("\n")[0]) : null));
@@ -341,7 +335,7 @@ export class SchemaForm {
 
   scalarField(info, path, key, required) {
     const id = fieldId(path);
-    const [, unit] = splitUnit(info.description);
+    const unit = unitOf(info);
     const [label, desc] = labelOf(info, key);
     const v = this.get(path);
     const helpId = `${id}-help`;

@@ -3,7 +3,7 @@
 
 import { api, cached } from "../api.js";
 import { h, setChildren, notice, errorBox, loading } from "../components/dom.js";
-import { splitUnit } from "../components/schemaform.js";
+import { plainDescription, unitOf } from "../components/schemaform.js";
 import { parseYamlOrJson } from "../components/yaml.js";
 import { go } from "../components/nav.js";
 
@@ -26,11 +26,11 @@ export function numericPaths(schema) {
     if (depth > 6) return;
     if (r.anyOf) {
       const inner = r.anyOf.find((x) => x.type === "number" || x.type === "integer");
-      if (inner) out.push({ path, label: splitUnit(r.description)[0], unit: splitUnit(r.description)[1] });
+      if (inner) out.push({ path, label: plainDescription(r), unit: unitOf(r) });
       return;
     }
     if (r.type === "number" || r.type === "integer") {
-      out.push({ path, label: splitUnit(r.description)[0], unit: splitUnit(r.description)[1] });
+      out.push({ path, label: plainDescription(r), unit: unitOf(r) });
       return;
     }
     if (r.oneOf && r.discriminator) {

@@ -106,6 +106,35 @@ def test_invalid_field_is_marked_before_and_by_the_server(page, server, shot):
     assert page.locator("#f-solver-dt").input_value() == "0.0001"
 
 
+def _unit_of(page, field_id):
+    """The unit shown beside a form field (None when there is none)."""
+    unit = page.locator(f".field:has(#{field_id}) .input-row .unit")
+    return unit.inner_text() if unit.count() else None
+
+
+def test_form_shows_the_units_of_the_schema(page, server):
+    """Units come from the schema's ``unit`` (not from parsing descriptions): the slips the
+    description parser made are gone."""
+    schema = server.api("/schemas/scenario")
+    goto(page, "/new?preset=paper-metro")
+    page.locator("#f-speed_kmh").wait_for()
+    for group in ("vehicle", "track", "output"):
+        open_group(page, group)
+    expected = {
+        "f-bodies-carbody-damping_ratio": "-",       # was "rayleigh"
+        "f-track-rail_centre_half_distance": "m",    # was "2b"
+        "f-track-fastener-k_roll": "N·m/rad",        # was missing
+        "f-track-fastener-c_roll": "N·m·s/rad",      # was missing
+        "f-output-rate_hz": "Hz",                    # was missing
+        "f-output-floor_grid_spacing_m": "m",        # was missing
+    }
+    for field_id, unit in expected.items():
+        assert _unit_of(page, field_id) == ("–" if unit == "-" else unit), field_id
+    assert schema["$defs"]["Fastener"]["properties"]["k_roll"]["unit"] == "N·m/rad"
+    legends = page.locator("fieldset.obj > legend").all_inner_texts()
+    assert any("Car body" in t for t in legends) and any("bogie frames" in t for t in legends)
+
+
 def test_yaml_editor_reads_a_preset_based_file(page, server):
     goto(page, "/new")
     page.get_by_role("tab", name="YAML / JSON").click()

@@ -65,13 +65,17 @@ def test_unparsable_file(tmp_path):
         load_scenario(f)
 
 
-def test_every_numeric_field_documents_its_unit():
-    """Units in every field description (the issue's foundation requirement)."""
+def test_every_numeric_field_has_its_unit_as_data():
+    """Every numeric field carries ``unit`` in its JSON schema, and its description ends with
+    that unit (both from one argument of :func:`flexride.model.base.quantity`)."""
     schema = Scenario.model_json_schema()
     missing = []
     for name, d in schema["$defs"].items():
         for field, spec in d.get("properties", {}).items():
             types = {spec.get("type")} | {a.get("type") for a in spec.get("anyOf", [])}
-            if types & {"number", "integer"} and "(" not in spec.get("description", ""):
+            if not types & {"number", "integer"}:
+                continue
+            unit = spec.get("unit")
+            if not unit or not spec.get("description", "").endswith(f" ({unit})"):
                 missing.append(f"{name}.{field}")
     assert not missing, missing

@@ -23,7 +23,7 @@ from typing import Annotated, Literal, Self
 
 from pydantic import Field, field_validator, model_validator
 
-from flexride.model.base import Schema
+from flexride.model.base import Schema, quantity
 
 __all__ = [
     "IRREGULARITY_COMPONENTS",
@@ -74,15 +74,15 @@ class RandomIrregularity(Schema):
         min_length=1,
         description="Irregularity components to generate (-); each at most once",
     )
-    wavelength_min_m: float = Field(
-        1.0, ge=0.1, le=50.0, description="Shortest wavelength of the band (m)"
+    wavelength_min_m: float = quantity(
+        1.0, ge=0.1, le=50.0, description="Shortest wavelength of the band", unit="m"
     )
-    wavelength_max_m: float = Field(
-        120.0, gt=0.1, le=1000.0, description="Longest wavelength of the band (m)"
+    wavelength_max_m: float = quantity(
+        120.0, gt=0.1, le=1000.0, description="Longest wavelength of the band", unit="m"
     )
-    seed: int = Field(1, ge=0, description="Seed of the random generator (-)")
-    scale: float = Field(
-        1.0, ge=0.0, le=10.0, description="Amplitude factor applied to the realisation (-)"
+    seed: int = quantity(1, ge=0, description="Seed of the random generator", unit="-")
+    scale: float = quantity(
+        1.0, ge=0.0, le=10.0, description="Amplitude factor applied to the realisation", unit="-"
     )
 
     @field_validator("components")
@@ -117,17 +117,20 @@ class Corrugation(Schema):
     """
 
     kind: Literal["corrugation"] = "corrugation"
-    wavelength_m: float = Field(0.5, ge=0.01, le=5.0, description="Corrugation wavelength (m)")
-    depth_m: float = Field(
-        0.001, ge=0.0, le=0.01, description="Corrugation depth, peak to peak (m)"
+    wavelength_m: float = quantity(
+        0.5, ge=0.01, le=5.0, description="Corrugation wavelength", unit="m"
     )
-    start_m: float = Field(
-        0.0, ge=0.0, description="Distance along the line where the corrugation starts (m)"
+    depth_m: float = quantity(
+        0.001, ge=0.0, le=0.01, description="Corrugation depth, peak to peak", unit="m"
     )
-    length_m: float | None = Field(
+    start_m: float = quantity(
+        0.0, ge=0.0, description="Distance along the line where the corrugation starts", unit="m"
+    )
+    length_m: float | None = quantity(
         None,
         gt=0.0,
-        description="Length of the corrugated stretch; null = to the end of the route (m)",
+        description="Length of the corrugated stretch; null = to the end of the route",
+        unit="m",
     )
     rails: Rails = Field("both", description="Corrugated rail(s) (-)")
 
@@ -141,10 +144,12 @@ class Settlement(Schema):
     """
 
     kind: Literal["settlement"] = "settlement"
-    wavelength_m: float = Field(20.0, ge=1.0, le=500.0, description="Length of the dip (m)")
-    depth_m: float = Field(0.1, ge=0.0, le=0.5, description="Depth of the dip (m)")
-    position_m: float = Field(
-        50.0, ge=0.0, description="Distance along the line where the dip starts (m)"
+    wavelength_m: float = quantity(
+        20.0, ge=1.0, le=500.0, description="Length of the dip", unit="m"
+    )
+    depth_m: float = quantity(0.1, ge=0.0, le=0.5, description="Depth of the dip", unit="m")
+    position_m: float = quantity(
+        50.0, ge=0.0, description="Distance along the line where the dip starts", unit="m"
     )
     rails: Rails = Field("both", description="Settled rail(s) (-)")
 
@@ -181,38 +186,48 @@ class MeasuredIrregularity(Schema):
 
     kind: Literal["measured"] = "measured"
     path: str | None = Field(
-        None, min_length=1, max_length=4096,
+        None,
+        min_length=1,
+        max_length=4096,
         description="CSV file on the machine that runs the simulation (-); CLI and library "
         "only, refused by the API",
     )
     upload: str | None = Field(
-        None, pattern=r"^[0-9a-f]{64}$",
+        None,
+        pattern=r"^[0-9a-f]{64}$",
         description="Id (SHA-256 of the content) of a CSV uploaded with "
         "POST /api/v1/irregularities (-)",
     )
     columns: list[Annotated[str, Field(min_length=1, max_length=64)]] | None = Field(
-        None, min_length=2, max_length=64,
+        None,
+        min_length=2,
+        max_length=64,
         description="Column names of the inline rows (-), as a CSV header",
     )
     rows: list[list[float]] | None = Field(
-        None, min_length=2,
+        None,
+        min_length=2,
         description="Inline measurement rows (m): one value per column of 'columns'",
     )
     distance_column: str = Field(
-        "distance_m", min_length=1, max_length=64,
+        "distance_m",
+        min_length=1,
+        max_length=64,
         description="Name of the distance column (m) in the data",
     )
-    scale: float = Field(
-        1.0, ge=0.0, le=10.0, description="Amplitude factor applied to the measured data (-)"
+    scale: float = quantity(
+        1.0, ge=0.0, le=10.0, description="Amplitude factor applied to the measured data", unit="-"
     )
 
     @model_validator(mode="after")
     def _one_source(self) -> Self:
         given = [n for n in ("path", "upload", "rows") if getattr(self, n) is not None]
         if len(given) != 1:
-            raise ValueError("give the data in exactly one way: 'path' (a file, CLI and "
-                             "library), 'upload' (an uploaded CSV's id) or 'columns' + 'rows'"
-                             + (f"; got {', '.join(given)}" if given else ""))
+            raise ValueError(
+                "give the data in exactly one way: 'path' (a file, CLI and "
+                "library), 'upload' (an uploaded CSV's id) or 'columns' + 'rows'"
+                + (f"; got {', '.join(given)}" if given else "")
+            )
         if (self.rows is None) != (self.columns is None):
             raise ValueError("'rows' need 'columns' (the column names) and vice versa")
         return self

@@ -6,7 +6,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field
 
-from flexride.model.base import Schema
+from flexride.model.base import Schema, quantity
 
 
 class StraightLine(Schema):
@@ -23,22 +23,28 @@ class CurvedLine(Schema):
     """
 
     kind: Literal["curve"] = "curve"
-    radius_m: float = Field(800.0, ge=50.0, le=1.0e5, description="Radius of the circular arc (m)")
+    radius_m: float = quantity(
+        800.0, ge=50.0, le=1.0e5, description="Radius of the circular arc", unit="m"
+    )
     direction: Literal["left", "right"] = Field("left", description="Direction of the curve")
-    superelevation_m: float = Field(
-        0.095, ge=0.0, le=0.2, description="Superelevation (cant) of the outer rail (m)"
+    superelevation_m: float = quantity(
+        0.095, ge=0.0, le=0.2, description="Superelevation (cant) of the outer rail", unit="m"
     )
-    entry_transition_m: float = Field(
-        55.0, ge=0.0, le=1000.0, description="Entry transition length (m)"
+    entry_transition_m: float = quantity(
+        55.0, ge=0.0, le=1000.0, description="Entry transition length", unit="m"
     )
-    exit_transition_m: float = Field(
-        55.0, ge=0.0, le=1000.0, description="Exit transition length (m)"
+    exit_transition_m: float = quantity(
+        55.0, ge=0.0, le=1000.0, description="Exit transition length", unit="m"
     )
-    arc_length_m: float = Field(
-        200.0, ge=0.0, le=1.0e5, description="Length of the circular arc (m)"
+    arc_length_m: float = quantity(
+        200.0, ge=0.0, le=1.0e5, description="Length of the circular arc", unit="m"
     )
-    start_m: float = Field(
-        40.0, ge=0.0, le=1.0e6, description="Position of the start of the entry transition (m)"
+    start_m: float = quantity(
+        40.0,
+        ge=0.0,
+        le=1.0e6,
+        description="Position of the start of the entry transition",
+        unit="m",
     )
 
 

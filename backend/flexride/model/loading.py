@@ -46,8 +46,9 @@ def check_shape(data: Any, source: str) -> None:
             raise ScenarioError(f"{source}: nested more than {MAX_NESTING} levels deep")
         if nodes > MAX_NODES:
             raise ScenarioError(f"{source}: more than {MAX_NODES:,} values")
-        children = node.values() if isinstance(node, dict) else node if isinstance(
-            node, list) else ()
+        children = (
+            node.values() if isinstance(node, dict) else node if isinstance(node, list) else ()
+        )
         stack.extend((child, depth + 1) for child in children)
 
 
@@ -85,8 +86,12 @@ def read_scenario_file(path: str | Path) -> dict[str, Any]:
     return data
 
 
-def safe_overrides(data: dict[str, Any], overrides: dict[str, Any] | None,
-                   source: str = "overrides", loc: Loc = ("overrides",)) -> dict[str, Any]:
+def safe_overrides(
+    data: dict[str, Any],
+    overrides: dict[str, Any] | None,
+    source: str = "overrides",
+    loc: Loc = ("overrides",),
+) -> dict[str, Any]:
     """Apply dotted-path overrides; a failure is a :class:`ScenarioError` at ``loc + (path,)``.
 
     Parameters
@@ -107,16 +112,17 @@ def safe_overrides(data: dict[str, Any], overrides: dict[str, Any] | None,
     for path in overrides:
         parts = path.split(".") if isinstance(path, str) else []
         if not parts or any(not p.strip() for p in parts) or len(parts) > MAX_PATH_DEPTH:
-            raise ScenarioError.at((*loc, str(path)),
-                                   f"{path!r} is not a dotted field path like 'solver.dt'",
-                                   source)
+            raise ScenarioError.at(
+                (*loc, str(path)), f"{path!r} is not a dotted field path like 'solver.dt'", source
+            )
     out = data
     for path, value in overrides.items():
         try:
             out = apply_overrides(out, {path: value})
         except (KeyError, IndexError, ValueError, TypeError, AttributeError) as exc:
-            raise ScenarioError.at((*loc, path), f"cannot set {path!r}: {_why(exc)}",
-                                   source) from None
+            raise ScenarioError.at(
+                (*loc, path), f"cannot set {path!r}: {_why(exc)}", source
+            ) from None
     return out
 
 

@@ -162,11 +162,6 @@ def _all_presets() -> dict[str, dict[str, Any]]:
 PRESETS: dict[str, dict[str, Any]] = _all_presets()
 
 
-def preset_names() -> list[str]:
-    """Names of all presets."""
-    return list(PRESETS)
-
-
 def preset_dict(name: str, overrides: dict[str, Any] | None = None) -> dict[str, Any]:
     """The scenario mapping of preset ``name`` with optional dotted-path overrides."""
     if name not in PRESETS:

@@ -9,7 +9,7 @@ from typing import Any
 from pydantic import Field, ValidationError, model_validator
 
 from flexride.errors import ScenarioError
-from flexride.model.base import Schema
+from flexride.model.base import Schema, quantity
 from flexride.model.bodies import BodyModels
 from flexride.model.contact import Contact
 from flexride.model.excitation import Excitation
@@ -32,9 +32,13 @@ class Scenario(Schema):
     line: Line = Field(default_factory=StraightLine)
     contact: Contact = Field(default_factory=Contact)
     excitation: list[Excitation] = Field(default_factory=list, description="Combined excitations")
-    speed_kmh: float = Field(..., gt=0.0, le=200.0, description="Running speed (km/h)")
-    duration_s: float | None = Field(None, gt=0.0, le=3600.0, description="Simulated time (s)")
-    distance_m: float | None = Field(None, gt=0.0, le=1.0e5, description="Distance to run (m)")
+    speed_kmh: float = quantity(..., gt=0.0, le=200.0, description="Running speed", unit="km/h")
+    duration_s: float | None = quantity(
+        None, gt=0.0, le=3600.0, description="Simulated time", unit="s"
+    )
+    distance_m: float | None = quantity(
+        None, gt=0.0, le=1.0e5, description="Distance to run", unit="m"
+    )
     bodies: BodyModels = Field(
         default_factory=BodyModels, description="Rigid or flexible car body and bogie frames"
     )
