@@ -548,7 +548,7 @@ export class SchemaForm {
     for (const it of items || []) {
       let loc = (it.loc || []).map(String);
       while (loc.length && ["body", "scenario"].includes(loc[0])) loc = loc.slice(1);
-      const msg = stripSource(it.msg);
+      const msg = String(it.msg || "");
       let key = loc.join(".");
       // the nearest rendered field or block
       while (key && !this.fields.has(key) && !this.el.querySelector(`[data-path="${cssEsc(key)}"]`)) {
@@ -593,10 +593,6 @@ export class SchemaForm {
   }
 }
 
-/** "scenario: solver.dt: Input should …" → "Input should …" (the server's own words). */
-export function stripSource(msg) {
-  return String(msg || "").replace(/^[^:]{1,120}: (?:[A-Za-z0-9_.[\]()-]+|\(root\)): (?=\S)/, "");
-}
 
 function cssEsc(s) {
   return window.CSS?.escape ? CSS.escape(s) : s.replace(/"/g, '\\"');

@@ -2,7 +2,8 @@
 
 * :class:`~flexride.errors.StabilityError` → 422 naming ``solver.dt`` with a step that works;
 * other :class:`~flexride.errors.FlexrideError` (invalid scenario, unknown preset, analysis
-  input) → 422 with one item per problem (``loc`` = field path, ``msg`` with the allowed range);
+  input) → 422 with one item per located problem of the error (``loc`` = field path, ``msg``
+  with the allowed range), no text parsed back;
 * request validation → 422 in the same shape (``loc`` = ``["query", name]`` etc., ``msg`` with the
   violated bound as ``(allowed: ≤ 500)``); :class:`NotFound` → 404; :class:`Conflict` → 409;
 * storage faults (:class:`~flexride.errors.StorageError`, a database that refuses writes or
@@ -18,7 +19,6 @@ from __future__ import annotations
 import json
 import logging
 import math
-import re
 import time
 from typing import Any
 
@@ -28,13 +28,18 @@ from fastapi.responses import JSONResponse
 from sqlalchemy.exc import DataError, DBAPIError, IntegrityError, ProgrammingError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from flexride.errors import FlexrideError, ResultsFileError, StabilityError, StorageError
+from flexride.errors import (
+    ErrorItem,
+    FlexrideError,
+    ResultsFileError,
+    StabilityError,
+    StorageError,
+)
+from flexride.model.scenario import allowed_range
 from flexride.store.probe import db_fault, is_storage_oserror, os_fault
 
 log = logging.getLogger(__name__)
 
-_ITEM = re.compile(r"^(?P<src>[^:]{1,120}): (?P<path>[A-Za-z0-9_.\[\]()-]+|\(root\)): (?P<msg>.+)$",
-                   re.S)
 
 
 class NotFound(Exception):
@@ -68,27 +73,6 @@ class SafeJSONResponse(JSONResponse):
         return text.encode("utf-8")
 
 
-def _path_loc(path: str) -> list[str | int]:
-    if path == "(root)":
-        return []
-    return [int(p) if p.isdigit() else p for p in path.split(".")]
-
-
-def error_items(message: str, kind: str) -> list[dict[str, Any]]:
-    """Split a flexride error message (``source: field.path: problem; ...``) into items; a
-    part that does not start like that continues the previous item's message."""
-    items: list[dict[str, Any]] = []
-    for part in message.split("; "):
-        m = _ITEM.match(part.strip())
-        if m:
-            items.append({"loc": _path_loc(m.group("path")), "msg": part.strip(), "type": kind})
-        elif items:
-            items[-1]["msg"] += "; " + part
-        else:
-            items.append({"loc": [], "msg": part.strip(), "type": kind})
-    return items
-
-
 def _error(status: int, detail: Any, message: str | None = None, **extra: Any) -> JSONResponse:
     body = {"detail": detail, "message": message, **extra}
     return SafeJSONResponse(status_code=status, content=body)
@@ -112,19 +96,9 @@ async def _flexride_error(request: Request, exc: Exception) -> JSONResponse:
     if isinstance(exc, ResultsFileError):
         return _error(404, str(exc), str(exc))
     kind = type(exc).__name__
-    located = getattr(exc, "items", ())
-    if located:
-        items = [{"loc": list(it.loc), "msg": it.msg, "type": kind} for it in located]
-        return _error(422, items, str(exc))
-    return _error(422, error_items(str(exc), kind), str(exc))
-
-
-def _allowed(ctx: dict[str, Any] | None) -> str:
-    """`` (allowed: ≤ 500)`` from the bounds of a validation error's context (as the scenario
-    messages of :func:`flexride.model.scenario.format_validation_error` say it)."""
-    bounds = [f"{sym} {ctx[key]}" for key, sym in (("gt", ">"), ("ge", "≥"), ("lt", "<"),
-                                                  ("le", "≤")) if ctx and key in ctx]
-    return f" (allowed: {', '.join(bounds)})" if bounds else ""
+    located = getattr(exc, "items", ()) or [ErrorItem((), str(exc))]
+    items = [{"loc": list(it.loc), "msg": it.msg, "type": kind} for it in located]
+    return _error(422, items, str(exc))
 
 
 async def _validation_error(_request: Request, exc: Exception) -> JSONResponse:
@@ -134,7 +108,7 @@ async def _validation_error(_request: Request, exc: Exception) -> JSONResponse:
         ctx = err.get("ctx")
         items.append({
             "loc": [p if isinstance(p, int) else str(p) for p in err.get("loc", ())],
-            "msg": str(err.get("msg", "")) + _allowed(ctx),
+            "msg": str(err.get("msg", "")) + allowed_range(ctx),
             "type": str(err.get("type", "validation")),
             "ctx": {k: v if isinstance(v, int | float | str | bool) or v is None else str(v)
                     for k, v in ctx.items()} if ctx else None,

@@ -189,7 +189,7 @@ def resolve_scenario(
         source = source or f"preset {preset}"
     else:
         if not isinstance(scenario, dict):
-            raise ScenarioError("scenario: must be a mapping")
+            raise ScenarioError.at(("scenario",), "must be a mapping", "request")
         if "preset" in scenario:
             _preset(str(scenario["preset"]), ("preset",))  # located error for a bad name
         data = resolve_preset_base(scenario) if "preset" in scenario else scenario

@@ -8,7 +8,7 @@ from typing import Any
 
 from pydantic import Field, ValidationError, model_validator
 
-from flexride.errors import ScenarioError
+from flexride.errors import ErrorItem, ScenarioError
 from flexride.model.base import Schema, quantity
 from flexride.model.bodies import BodyModels
 from flexride.model.contact import Contact
@@ -64,22 +64,44 @@ class Scenario(Schema):
         return float(self.distance_m) / self.speed_mps
 
 
-def format_validation_error(exc: ValidationError, source: str = "scenario") -> str:
-    """One readable message per error: the field path, what is wrong and the allowed range."""
-    lines = []
+def allowed_range(ctx: dict[str, Any] | None) -> str:
+    """`` (allowed: ≤ 500)`` from the bounds of a validation error's context, or ``""``."""
+    bounds = [f"{sym} {ctx[key]}" for key, sym in (("gt", ">"), ("ge", "≥"), ("lt", "<"),
+                                                  ("le", "≤")) if ctx and key in ctx]
+    return f" (allowed: {', '.join(bounds)})" if bounds else ""
+
+
+def _data_loc(loc: tuple[Any, ...], data: Any) -> tuple[str | int, ...]:
+    """``loc`` without the tags pydantic inserts for discriminated unions (``measured`` in
+    ``excitation.0.measured.rows``): the path of the field in the input data."""
+    out: list[str | int] = []
+    node = data
+    for part in loc:
+        if isinstance(node, dict) and part not in node and isinstance(part, str) and (
+                node.get("kind") == part):
+            continue  # a union tag, not a key of the input
+        out.append(part)
+        node = node.get(part) if isinstance(node, dict) else (
+            node[part] if isinstance(node, list) and isinstance(part, int)
+            and 0 <= part < len(node) else None)
+    return tuple(out)
+
+
+def validation_items(exc: ValidationError, data: Any = None) -> list[ErrorItem]:
+    """One located problem per validation error: what is wrong, the allowed range and the
+    value given (located in the input ``data``)."""
+    items = []
     for err in exc.errors():
-        path = ".".join(str(p) for p in err["loc"]) or "(root)"
-        msg = err["msg"]
-        ctx = err.get("ctx") or {}
-        bounds = []
-        for key, sym in (("gt", ">"), ("ge", "≥"), ("lt", "<"), ("le", "≤")):
-            if key in ctx:
-                bounds.append(f"{sym} {ctx[key]}")
-        rng = f" (allowed: {', '.join(bounds)})" if bounds else ""
         got = err.get("input")
         got_txt = "" if isinstance(got, dict | list) else f", got {got!r}"
-        lines.append(f"{source}: {path}: {msg}{rng}{got_txt}")
-    return "; ".join(lines)
+        msg = f"{err['msg']}{allowed_range(err.get('ctx'))}{got_txt}"
+        items.append(ErrorItem(_data_loc(tuple(err["loc"]), data), msg))
+    return items
+
+
+def located_error(items: list[ErrorItem], source: str) -> ScenarioError:
+    """A :class:`ScenarioError` of ``items`` whose message reads ``source: path: msg; …``."""
+    return ScenarioError("; ".join(f"{source}: {it.path}: {it.msg}" for it in items), items)
 
 
 def deep_merge(base: dict[str, Any], update: dict[str, Any]) -> dict[str, Any]:
@@ -112,12 +134,13 @@ def scenario_from_dict(data: dict[str, Any], source: str = "scenario") -> Scenar
     The mapping may name a ``preset`` to start from (see :func:`resolve_preset_base`).
     """
     if not isinstance(data, dict):
-        raise ScenarioError(f"{source}: a scenario must be a mapping, got {type(data).__name__}")
+        raise ScenarioError.at((), f"a scenario must be a mapping, got {type(data).__name__}",
+                               source)
     data = resolve_preset_base(data)
     try:
         return Scenario.model_validate(data)
     except ValidationError as exc:
-        raise ScenarioError(format_validation_error(exc, source)) from None
+        raise located_error(validation_items(exc, data), source) from None
 
 
 def load_scenario(path: str | Path) -> Scenario:

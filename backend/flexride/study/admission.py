@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 from flexride.errors import ErrorItem, ScenarioError
 from flexride.model.excitation import MeasuredIrregularity
-from flexride.model.scenario import Scenario
+from flexride.model.scenario import Scenario, located_error
 from flexride.model.vehicle import Vehicle
 from flexride.settings import Settings
 from flexride.solver.estimate import RunEstimate, count_output_points, count_steps, estimate_run
@@ -58,7 +58,7 @@ class Limits:
 
 def _refuse(items: list[ErrorItem]) -> None:
     if items:
-        raise ScenarioError("; ".join(f"scenario: {i.path}: {i.msg}" for i in items), items)
+        raise located_error(items, "scenario")
 
 
 def check_measured(scenario: Scenario, sources: MeasuredSources) -> None:

@@ -101,25 +101,26 @@ def build_axes(req: dict[str, Any]) -> list[Axis]:
     if req.get("conditions"):
         names = [c if isinstance(c, str) else c["name"] for c in req["conditions"]]
         if len(set(names)) != len(names):
-            raise ScenarioError("conditions: names must be unique")
+            raise ScenarioError.at(("conditions",), "names must be unique", "study")
         axes.append(Axis("condition", [_condition_level(i, c)
                                        for i, c in enumerate(req["conditions"])]))
     if req.get("speeds_kmh"):
         speeds = [float(v) for v in req["speeds_kmh"]]
         if len(set(speeds)) != len(speeds):
-            raise ScenarioError("speeds_kmh: values must be unique")
+            raise ScenarioError.at(("speeds_kmh",), "values must be unique", "study")
         axes.append(Axis("speed_kmh", [Level(v, {"speed_kmh": v}) for v in speeds]))
     if req.get("body_models"):
         models = list(req["body_models"])
         if len(set(models)) != len(models):
-            raise ScenarioError("body_models: values must be unique")
+            raise ScenarioError.at(("body_models",), "values must be unique", "study")
         axes.append(Axis("body_model", [
             Level(m, {"bodies.carbody.model": m, "bodies.frames.model": m}) for m in models]))
     seen = {"speed_kmh"}
     for i, p in enumerate(req.get("parameters") or []):
         path = p["path"]
         if path in seen:
-            raise ScenarioError(f"parameters.{i}.path: {path!r} is already an axis")
+            raise ScenarioError.at(("parameters", i, "path"), f"{path!r} is already an axis",
+                                   "study")
         seen.add(path)
         axes.append(Axis(path, [Level(v, {path: v}) for v in p["values"]]))
     return axes
@@ -127,13 +128,14 @@ def build_axes(req: dict[str, Any]) -> list[Axis]:
 
 def _base_data(base: dict[str, Any]) -> dict[str, Any]:
     if (base.get("scenario") is None) == (base.get("preset") is None):
-        raise ScenarioError("base: give either 'scenario' or 'preset' (not both)")
+        raise ScenarioError.at(("base",), "give either 'scenario' or 'preset' (not both)",
+                               "study")
     if base.get("preset") is not None:
         data = preset_dict(base["preset"])
     else:
         scen = base["scenario"]
         if not isinstance(scen, dict):
-            raise ScenarioError("base.scenario: must be a mapping")
+            raise ScenarioError.at(("base", "scenario"), "must be a mapping", "study")
         data = resolve_preset_base(scen) if "preset" in scen else scen
     return safe_overrides(data, base.get("overrides"), source="base.overrides",
                           loc=("base", "overrides"))
@@ -158,7 +160,8 @@ def expand_study(request: dict[str, Any], max_jobs: int) -> StudyPlan:
     """
     req = merge_with_preset(request)
     if req.get("base") is None:
-        raise ScenarioError("base: a study needs a base scenario (or a study preset)")
+        raise ScenarioError.at(("base",), "a study needs a base scenario (or a study preset)",
+                               "study")
     axes = build_axes(req)
     n = 1
     for ax in axes:

@@ -29,7 +29,7 @@ from typing import Any, Literal
 from fastapi.responses import FileResponse, Response
 
 from flexride import __version__
-from flexride.api.errors import Conflict, SafeJSONResponse, error_items
+from flexride.api.errors import Conflict, SafeJSONResponse
 from flexride.errors import ScenarioError
 from flexride.fe_export import BODY_FIELDS, ExportSpec, init_build_process, run_export_job
 from flexride.model.bodies import BodyModel
@@ -293,8 +293,8 @@ def preset_vehicle(preset: str) -> Vehicle:
     from flexride.model.presets import PRESETS, load_preset
 
     if preset not in PRESETS:
-        raise ScenarioError(f"GET /fe: query.preset: unknown preset {preset!r} "
-                            f"(allowed: {', '.join(PRESETS)})")
+        raise ScenarioError.at(("query", "preset"), f"unknown preset {preset!r} "
+                               f"(allowed: {', '.join(PRESETS)})", "GET /fe")
     return load_preset(preset).vehicle
 
 
@@ -338,7 +338,8 @@ def respond(builds: FEBuilds, spec: ExportSpec, may_start: bool = True) -> Respo
         msg = st.error or "the FE build failed"
         if st.model_error:
             return SafeJSONResponse(status_code=422, content={
-                "detail": error_items(msg, st.error_type or "FEModelError"), "message": msg})
+                "detail": [{"loc": [], "msg": msg, "type": st.error_type or "FEModelError"}],
+                "message": msg})
         return SafeJSONResponse(status_code=503, headers=retry,
                                 content={"detail": msg, "message": msg})
     what = _LABEL[spec.kind]
