@@ -12,6 +12,8 @@ import os
 from importlib import metadata
 from pathlib import Path
 
+from flexride.fileio import cache_root
+
 FASTMATH = set({"nsz", "arcp", "contract", "afn", "reassoc"})
 
 
@@ -36,7 +38,6 @@ def configure_numba_cache(flexride_version: str) -> Path:
         The cache directory in use.
     """
     if "NUMBA_CACHE_DIR" not in os.environ:
-        base = Path(os.environ.get("FLEXRIDE_CACHE_DIR", Path.home() / ".cache" / "flexride"))
-        path = base / f"numba-{flexride_version}-{_numba_version()}"
+        path = cache_root() / f"numba-{flexride_version}-{_numba_version()}"
         os.environ["NUMBA_CACHE_DIR"] = str(path)
     return Path(os.environ["NUMBA_CACHE_DIR"])

@@ -18,13 +18,12 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import tempfile
 import time
 from dataclasses import asdict, dataclass
-from pathlib import Path
 from typing import Any, Literal
 
 from flexride.errors import FlexrideError
+from flexride.fileio import write_bytes_atomic
 from flexride.model.bodies import BodyModel
 from flexride.model.vehicle import Vehicle
 
@@ -161,16 +160,7 @@ def write_export(spec: ExportSpec, dest: str | os.PathLike[str]) -> dict[str, An
     """
     data = build_export(spec)
     text = json.dumps(data, separators=(",", ":"), allow_nan=False)
-    path = Path(dest)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    write_bytes_atomic(dest, text.encode("utf-8"))
     return data["model"]
 
 

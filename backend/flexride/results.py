@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -37,6 +36,8 @@ import h5py
 import numpy as np
 
 from flexride.errors import ResultsFileError
+from flexride.fileio import atomic_path
+from flexride.units import kmh_to_mps
 
 FORMAT_NAME = "flexride-results"
 FORMAT_VERSION = 2
@@ -115,6 +116,20 @@ class Results:
             out.append(name)
         return out
 
+    def running_speed(self) -> float | None:
+        """Running speed (m/s): from the run facts, else the scenario's ``speed_kmh``, else the
+        distance and time axes; None when none of them tells."""
+        v = self.meta.get("speed_mps")
+        if v is not None:
+            return float(v)
+        kmh = self.scenario.get("speed_kmh") if isinstance(self.scenario, dict) else None
+        if kmh is not None:
+            return kmh_to_mps(kmh)
+        d, t = np.asarray(self.distance), np.asarray(self.time)
+        if d.size >= 2 and t[-1] > t[0]:
+            return float((d[-1] - d[0]) / (t[-1] - t[0]))
+        return None
+
     def write_hdf5(self, path: str | os.PathLike[str]) -> Path:
         """Write the results atomically to ``path`` (temporary file, then rename).
 
@@ -131,29 +146,21 @@ class Results:
         from flexride import __version__
 
         dest = Path(path)
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=".tmp", dir=dest.parent)
-        os.close(fd)
-        try:
-            with h5py.File(tmp_name, "w") as f:
-                f.attrs["format"] = FORMAT_NAME
-                f.attrs["format_version"] = FORMAT_VERSION
-                f.attrs["flexride_version"] = __version__
-                f.attrs["scenario_json"] = json.dumps(self.scenario)
-                f.attrs["meta_json"] = json.dumps(self.meta)
-                f.create_dataset("time", data=self.time).attrs["unit"] = "s"
-                f.create_dataset("distance", data=self.distance).attrs["unit"] = "m"
-                grp = f.create_group("channels")
-                for name, data in self.channels.items():
-                    ds = grp.create_dataset(
-                        name, data=data, compression="gzip", compression_opts=4, shuffle=True
-                    )
-                    ds.attrs["unit"] = self.units.get(name, "")
-                _write_points(f, self.recorded_points)
-            os.replace(tmp_name, dest)
-        except BaseException:
-            Path(tmp_name).unlink(missing_ok=True)
-            raise
+        with atomic_path(dest) as tmp_name, h5py.File(tmp_name, "w") as f:
+            f.attrs["format"] = FORMAT_NAME
+            f.attrs["format_version"] = FORMAT_VERSION
+            f.attrs["flexride_version"] = __version__
+            f.attrs["scenario_json"] = json.dumps(self.scenario)
+            f.attrs["meta_json"] = json.dumps(self.meta)
+            f.create_dataset("time", data=self.time).attrs["unit"] = "s"
+            f.create_dataset("distance", data=self.distance).attrs["unit"] = "m"
+            grp = f.create_group("channels")
+            for name, data in self.channels.items():
+                ds = grp.create_dataset(
+                    name, data=data, compression="gzip", compression_opts=4, shuffle=True
+                )
+                ds.attrs["unit"] = self.units.get(name, "")
+            _write_points(f, self.recorded_points)
         return dest
 
     @classmethod

@@ -19,6 +19,8 @@ from pydantic import Field, computed_field, field_validator
 from pydantic_core import PydanticCustomError
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
+from flexride.fileio import cache_root
+
 API_PREFIX = "/api/v1"
 """Path prefix of every API route."""
 
@@ -87,7 +89,7 @@ def _default_data_dir() -> Path:
 
 
 def _default_cache_dir() -> Path:
-    return Path.home() / ".cache" / "flexride"
+    return cache_root()
 
 
 def _default_frontend_dir() -> Path | None:

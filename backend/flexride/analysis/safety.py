@@ -397,16 +397,10 @@ def _static_loads(meta: dict[str, Any], n_ws: list[int], channels: dict[str, np.
 
 
 def _speed_of(results: Results) -> float:
-    v = results.meta.get("speed_mps")
-    if v is not None:
-        return float(v)
-    kmh = results.scenario.get("speed_kmh") if isinstance(results.scenario, dict) else None
-    if kmh is not None:
-        return float(kmh) / 3.6
-    d, t = np.asarray(results.distance), np.asarray(results.time)
-    if d.size >= 2 and t[-1] > t[0]:
-        return float((d[-1] - d[0]) / (t[-1] - t[0]))
-    raise AnalysisError("running speed unknown: no meta['speed_mps'] and no distance axis")
+    v = results.running_speed()
+    if v is None:
+        raise AnalysisError("running speed unknown: no meta['speed_mps'] and no distance axis")
+    return v
 
 
 def running_safety(

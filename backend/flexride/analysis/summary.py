@@ -56,6 +56,7 @@ from flexride.analysis.statistics import LinearFit, PeakStats, peak_statistics, 
 from flexride.analysis.timefreq import Spectrogram, spectrogram
 from flexride.analysis.weighting import apply_weighting
 from flexride.errors import AnalysisError, FlexrideError
+from flexride.units import mps_to_kmh
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -450,14 +451,12 @@ def analyze(
         except FlexrideError as exc:
             notes.append(f"{ch}: {_err(exc)}")
 
-    speed = results.meta.get("speed_mps")
-    if speed is None and isinstance(results.scenario, dict) and "speed_kmh" in results.scenario:
-        speed = float(results.scenario["speed_kmh"]) / 3.6
+    speed = results.running_speed()
     scen_name = results.scenario.get("name") if isinstance(results.scenario, dict) else None
     run = {"scenario": scen_name, "duration_s": time.size / fs, "sample_rate_hz": fs,
            "n_samples": int(time.size), "t0_s": t0,
            "speed_mps": float(speed) if speed is not None else None,
-           "speed_kmh": float(speed) * 3.6 if speed is not None else None}
+           "speed_kmh": mps_to_kmh(speed) if speed is not None else None}
     return Summary(run=run, settings=_settings(sperling_form, filter_method,
                                                correlation_max_lag_s, ref),
                    points=points, correlations=correlations, safety=safety,

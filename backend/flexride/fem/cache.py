@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import tempfile
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from flexride.fileio import atomic_path, cache_root
 
 #: Bump when the content or layout of cached entries changes.
 CACHE_SCHEMA = 2
@@ -34,8 +35,7 @@ def _version() -> str:
 
 def cache_dir() -> Path:
     """The cache directory for FE bodies (created on first write)."""
-    base = Path(os.environ.get("FLEXRIDE_CACHE_DIR", Path.home() / ".cache" / "flexride"))
-    return base / f"fem-{_version()}"
+    return cache_root() / f"fem-{_version()}"
 
 
 def _canonical(obj: Any) -> Any:
@@ -90,29 +90,20 @@ def load(key: str) -> tuple[dict[str, np.ndarray], dict] | None:
 def store(key: str, arrays: dict[str, np.ndarray], info: dict) -> Path | None:
     """Write entry ``key``; returns its path, or None when the directory is not writable."""
     d = cache_dir()
-    tmp: list[tuple[str, Path]] = []
     mapped = [k for k in arrays if k in MAPPED]
     small = {k: v for k, v in arrays.items() if k not in MAPPED}
     try:
-        d.mkdir(parents=True, exist_ok=True)
-        for name in mapped:
-            with tempfile.NamedTemporaryFile(dir=d, suffix=".npy.tmp", delete=False) as fh:
-                tmp.append((fh.name, d / f"{key}.{name}.npy"))
-                np.save(fh, np.ascontiguousarray(arrays[name]), allow_pickle=False)
-        with tempfile.NamedTemporaryFile(dir=d, suffix=".npz.tmp", delete=False) as fh:
-            tmp.append((fh.name, d / f"{key}.npz"))
-            np.savez(fh, **small)
-        with tempfile.NamedTemporaryFile(
-            "w", dir=d, suffix=".json.tmp", delete=False, encoding="utf-8"
-        ) as fh:
-            tmp.append((fh.name, d / f"{key}.json"))
-            json.dump(_canonical({**info, "_mapped": mapped}), fh)
-        for src, dst in tmp:
-            os.replace(src, dst)
-        tmp.clear()
+        # every file renamed into place only when all are written (metadata last written,
+        # first renamed: a reader that finds it also needs the arrays, see load)
+        with ExitStack() as files:
+            for name in mapped:
+                with open(files.enter_context(atomic_path(d / f"{key}.{name}.npy")), "wb") as fh:
+                    np.save(fh, np.ascontiguousarray(arrays[name]), allow_pickle=False)
+            with open(files.enter_context(atomic_path(d / f"{key}.npz")), "wb") as fh:
+                np.savez(fh, **small)
+            meta = files.enter_context(atomic_path(d / f"{key}.json"))
+            meta.write_text(json.dumps(_canonical({**info, "_mapped": mapped})),
+                            encoding="utf-8")
     except OSError:
         return None
-    finally:
-        for src, _ in tmp:
-            Path(src).unlink(missing_ok=True)
     return d / f"{key}.npz"

@@ -17,6 +17,7 @@ from flexride.model.line import Line, StraightLine
 from flexride.model.solver import Output, Solver
 from flexride.model.track import Track
 from flexride.model.vehicle import Vehicle
+from flexride.units import kmh_to_mps
 
 
 class Scenario(Schema):
@@ -54,7 +55,7 @@ class Scenario(Schema):
     @property
     def speed_mps(self) -> float:
         """Running speed (m/s)."""
-        return self.speed_kmh / 3.6
+        return kmh_to_mps(self.speed_kmh)
 
     @property
     def duration(self) -> float:

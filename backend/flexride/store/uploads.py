@@ -12,11 +12,11 @@ from __future__ import annotations
 import hashlib
 import os
 import re
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 from flexride.errors import StorageError
+from flexride.fileio import write_bytes_atomic
 from flexride.store.probe import os_fault
 from flexride.track.measured import MeasuredSources, MeasuredTable, parse_measured_csv
 
@@ -103,17 +103,7 @@ class UploadStore:
     def _write(self, dest: Path, data: bytes) -> None:
         """Write ``data`` to ``dest`` atomically (:class:`StorageError` when it cannot)."""
         try:
-            self.root.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=self.root, prefix=".upload-", suffix=".tmp")
-            try:
-                with os.fdopen(fd, "wb") as f:
-                    f.write(data)
-                    f.flush()
-                    os.fsync(f.fileno())
-                os.replace(tmp, dest)
-            except BaseException:
-                Path(tmp).unlink(missing_ok=True)
-                raise
+            write_bytes_atomic(dest, data, fsync=True)
         except OSError as exc:
             raise StorageError(f"upload store not writable: {os_fault(exc)}") from None
 
