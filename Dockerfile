@@ -8,18 +8,18 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1 \
     FLEXRIDE_DATA_DIR=/data \
     FLEXRIDE_CACHE_DIR=/opt/flexride-cache \
-    NUMBA_CACHE_DIR=/opt/flexride-numba \
-    PYTHONPATH=/app
+    NUMBA_CACHE_DIR=/opt/flexride-numba
 
 WORKDIR /app
 
-# the package first (its layer is rebuilt only when the code or dependencies change)
+# the locked dependencies first (tools/lock_image.py writes requirements.lock), then the
+# package without resolving anything again: an image built later has the same packages
+COPY requirements.lock ./
+RUN pip install -r requirements.lock
 COPY pyproject.toml README.md ./
 COPY backend ./backend
-RUN pip install . && rm -rf build
+RUN pip install --no-deps . && rm -rf build
 
-# the Celery app (top-level package worker/, importable through PYTHONPATH=/app)
-COPY worker ./worker
 # the dashboard (static files, served at /)
 COPY frontend ./frontend
 ENV FLEXRIDE_FRONTEND_DIR=/app/frontend

@@ -25,8 +25,6 @@ from pydantic import ValidationError
 
 from flexride.settings import API_PREFIX, Settings, get_settings
 
-_REPO_ROOT = Path(__file__).resolve().parents[2]
-
 
 def _is_loopback(host: str) -> bool:
     if host in ("localhost", ""):
@@ -92,7 +90,7 @@ def serve(
 
 
 def _worker_argv(concurrency: int, loglevel: str, queue: str) -> list[str]:
-    return [sys.executable, "-m", "celery", "-A", "worker.app", "worker",
+    return [sys.executable, "-m", "celery", "-A", "flexride.jobs.celery_app", "worker",
             f"--concurrency={concurrency}", f"--loglevel={loglevel.upper()}", "-Q", queue,
             "-n", f"flexride-{os.getpid()}@%h", "--without-gossip", "--without-mingle",
             "--pool=prefork"]
@@ -102,11 +100,7 @@ def _worker_env() -> dict[str, str]:
     from flexride.jobs.warmup import single_threaded_env
 
     single_threaded_env()
-    env = dict(os.environ)
-    if (_REPO_ROOT / "worker" / "app.py").is_file():  # a source checkout: make worker/ importable
-        parts = [str(_REPO_ROOT), *filter(None, env.get("PYTHONPATH", "").split(os.pathsep))]
-        env["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(parts))
-    return env
+    return dict(os.environ)
 
 
 def worker(

@@ -30,8 +30,8 @@ def test_worker_app_registers_the_one_task(monkeypatch):
 
     get_settings.cache_clear()
     try:
-        from worker.app import app
-        from worker.tasks import run_job
+        from flexride.jobs.celery_app import app
+        from flexride.jobs.celery_tasks import run_job
 
         assert run_job.name == TASK_NAME and TASK_NAME in app.tasks
         assert run_job.acks_late and run_job.reject_on_worker_lost

@@ -95,7 +95,8 @@ def test_dockerfile_builds_the_service_image():
     text = (REPO / "Dockerfile").read_text()
     assert re.search(r'^CMD \["flexride", "serve", "--host", "0.0.0.0", "--port", "8000"\]',
                      text, re.M)
-    assert "COPY worker ./worker" in text and "PYTHONPATH=/app" in text
+    # the Celery app is part of the installed package: nothing beside it on the path
+    assert "worker ./worker" not in text and "PYTHONPATH" not in text
     assert "COPY frontend ./frontend" in text and "FLEXRIDE_FRONTEND_DIR=/app/frontend" in text
     assert "FLEXRIDE_DATA_DIR=/data" in text and "warm_numba" in text
     assert re.search(r"^USER flexride", text, re.M)

@@ -1,7 +1,8 @@
 """The Celery app: configuration from ``FLEXRIDE_*`` settings, numba warm-up before the pool
 forks, one job context per worker child.
 
-Start it with ``flexride worker`` (or ``celery -A worker.app worker``).
+Start it with ``flexride worker`` (or ``celery -A flexride.jobs.celery_app worker``); its one
+task is in :mod:`flexride.jobs.celery_tasks`.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ single_threaded_env()
 
 log = logging.getLogger("flexride.worker")
 
-app = Celery("flexride", include=["worker.tasks"])
+app = Celery("flexride", include=["flexride.jobs.celery_tasks"])
 app.conf.update(celery_config(get_settings()))
 
 _state: dict[str, object] = {}

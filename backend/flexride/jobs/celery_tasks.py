@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from flexride.jobs.celery_app import app, job_context
 from flexride.jobs.celery_config import TASK_NAME
-from worker.app import app, job_context
 
 
 @app.task(name=TASK_NAME, acks_late=True, reject_on_worker_lost=True, ignore_result=True)
