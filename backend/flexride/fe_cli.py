@@ -11,13 +11,16 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated, NoReturn
 
 import numpy as np
 import typer
 from rich.console import Console
 
 from flexride.errors import FlexrideError
+
+if TYPE_CHECKING:
+    from flexride.fem.flexible import Kind, Method
 
 fe_app = typer.Typer(
     add_completion=False,
@@ -36,7 +39,7 @@ SizeOpt = Annotated[
 PresetOpt = Annotated[str, typer.Option("--preset", help="Preset whose vehicle is used.")]
 
 
-def _fail(message: str) -> None:
+def _fail(message: str) -> NoReturn:
     _err.print(f"error: {message}", markup=False)
     raise typer.Exit(2)
 
@@ -52,23 +55,35 @@ def _build_body(kind: str, preset: str, method: str, cutoff: float, element_size
     """The reduced default body for the ``reduce`` and ``export`` commands: options checked
     first, any flexride error as one line and a non-zero exit."""
     try:
-        from flexride.fem.flexible import METHODS, build_flexible_body
+        from flexride.fem.flexible import build_flexible_body
 
-        if method not in METHODS:
-            _fail(f"unknown method {method!r}: use one of {', '.join(METHODS)}")
+        reduction = _method(method)
         if not (cutoff > 0 and np.isfinite(cutoff)):
             _fail(f"--cutoff must be a positive frequency in Hz, got {cutoff}")
-        return build_flexible_body(_kind(kind), _vehicle(preset), method=method,
+        return build_flexible_body(_kind(kind), _vehicle(preset), method=reduction,
                                    cutoff_hz=cutoff, element_size=element_size, name=kind,
                                    use_cache=use_cache)
     except FlexrideError as exc:
         _fail(str(exc))
 
 
-def _kind(kind: str) -> str:
-    if kind not in ("carbody", "frame"):
-        _fail(f"unknown body {kind!r}: use carbody or frame")
-    return kind
+_KINDS: tuple[Kind, ...] = ("carbody", "frame")
+
+
+def _kind(kind: str) -> Kind:
+    for k in _KINDS:
+        if k == kind:
+            return k
+    _fail(f"unknown body {kind!r}: use carbody or frame")
+
+
+def _method(method: str) -> Method:
+    from flexride.fem.flexible import METHODS
+
+    for m in METHODS:
+        if m == method:
+            return m
+    _fail(f"unknown method {method!r}: use one of {', '.join(METHODS)}")
 
 
 def _print_json(data) -> None:

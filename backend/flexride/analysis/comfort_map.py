@@ -28,7 +28,12 @@ import numpy as np
 
 from flexride.analysis._common import check_rate, check_signal
 from flexride.analysis.iso2631 import _window_rms
-from flexride.analysis.sperling import DEFAULT_SPERLING_FORM, sperling, sperling_grade
+from flexride.analysis.sperling import (
+    DEFAULT_SPERLING_FORM,
+    SperlingForm,
+    sperling,
+    sperling_grade,
+)
 from flexride.analysis.weighting import apply_weighting
 from flexride.errors import AnalysisError
 
@@ -88,7 +93,7 @@ def comfort_map(
     *,
     measure: str = "sperling",
     direction: str = "z",
-    form: str = DEFAULT_SPERLING_FORM,
+    form: SperlingForm = DEFAULT_SPERLING_FORM,
     weighting: str | None = None,
     coordinates: np.ndarray | None = None,
     block_samples: int = 4_000_000,

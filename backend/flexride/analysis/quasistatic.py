@@ -25,6 +25,7 @@ dynamic part, as it does in the standards' own band limitation.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Final, TypedDict
 
 import numpy as np
 from scipy import signal
@@ -34,8 +35,16 @@ from flexride.errors import AnalysisError
 
 __all__ = ["QUASISTATIC_DEFAULTS", "QuasiStaticSplit", "remove_quasistatic", "split_quasistatic"]
 
+
+class QuasiStaticDefaults(TypedDict):
+    """Parameters of the quasi-static split: cut-off (Hz) and Butterworth order."""
+
+    cutoff_hz: float
+    order: int
+
+
 #: Pinned defaults of the split.
-QUASISTATIC_DEFAULTS = {"cutoff_hz": 0.3, "order": 4}
+QUASISTATIC_DEFAULTS: Final[QuasiStaticDefaults] = {"cutoff_hz": 0.3, "order": 4}
 
 
 @dataclass
@@ -86,8 +95,8 @@ def split_quasistatic(
     fs = check_rate(fs)
     if not (cutoff_hz > 0.0):
         raise AnalysisError(f"cut-off must be positive (Hz), got {cutoff_hz!r}")
-    if int(order) < 1:
-        raise AnalysisError(f"filter order must be at least 1, got {order!r}")
+    if order != int(order) or int(order) < 1:  # int(order) alone would truncate 2.5 to 2
+        raise AnalysisError(f"filter order must be an integer of at least 1, got {order!r}")
     check_nyquist(fs, cutoff_hz, f"a {cutoff_hz:g} Hz quasi-static low pass", factor=4.0)
     x = check_signal(x, fs, name="acceleration", min_duration=1.0 / cutoff_hz,
                      method=f"the quasi-static split at {cutoff_hz:g} Hz")

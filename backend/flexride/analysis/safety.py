@@ -33,7 +33,7 @@ import functools
 import math
 import re
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final, TypedDict
 
 import numpy as np
 from scipy import signal
@@ -58,8 +58,21 @@ __all__ = [
 
 #: Limits of DESIGN §6.
 SAFETY_LIMITS = {"derailment_coefficient": 1.2, "wheel_unloading": 0.65}
+
+
+class SafetyDefaults(TypedDict):
+    """Processing parameters of the running-safety indices."""
+
+    lowpass_hz: float
+    window_m: float
+    step_m: float
+    order: int
+
+
 #: Pinned processing parameters.
-SAFETY_DEFAULTS = {"lowpass_hz": 20.0, "window_m": 2.0, "step_m": 0.5, "order": 4}
+SAFETY_DEFAULTS: Final[SafetyDefaults] = {
+    "lowpass_hz": 20.0, "window_m": 2.0, "step_m": 0.5, "order": 4
+}
 
 
 @dataclass

@@ -49,16 +49,18 @@ from flexride.analysis.spectra import SpectralPeak, Spectrum, dominant_peaks, we
 from flexride.analysis.sperling import (
     DEFAULT_SPERLING_FORM,
     SPERLING_DEFAULTS,
+    SperlingForm,
     SperlingResult,
     sperling,
 )
 from flexride.analysis.statistics import LinearFit, PeakStats, peak_statistics, regress_on_speed
 from flexride.analysis.timefreq import Spectrogram, spectrogram
-from flexride.analysis.weighting import apply_weighting
+from flexride.analysis.weighting import WeightingMethod, apply_weighting
 from flexride.errors import AnalysisError, FlexrideError
 from flexride.units import mps_to_kmh
 
 if TYPE_CHECKING:
+    from rich.console import JustifyMethod
     from rich.table import Table
 
     from flexride.results import Results
@@ -275,7 +277,7 @@ def _err(exc: Exception) -> str:
     return f"{type(exc).__name__}: {exc}"
 
 
-def _settings(sperling_form: str, filter_method: str, max_lag_s: float,
+def _settings(sperling_form: SperlingForm, filter_method: WeightingMethod, max_lag_s: float,
               reference: str | None) -> dict[str, Any]:
     other = "filter" if sperling_form == "spectral" else "spectral"
     return {
@@ -310,11 +312,11 @@ def _settings(sperling_form: str, filter_method: str, max_lag_s: float,
 def analyze(
     results: Results,
     *,
-    sperling_form: str = DEFAULT_SPERLING_FORM,
+    sperling_form: SperlingForm = DEFAULT_SPERLING_FORM,
     reference_point: str = "PRB",
     arrays: bool = False,
     correlation_max_lag_s: float = 3.0,
-    filter_method: str = "iir",
+    filter_method: WeightingMethod = "iir",
 ) -> Summary:
     """Analyse a run: comfort, spectra, correlations and running safety per output point.
 
@@ -405,7 +407,8 @@ def analyze(
         w = {d: weighted[d][p][_ISO_WEIGHTINGS[d][0]] for d in dirs
              if p in weighted.get(d, {}) and _ISO_WEIGHTINGS[d][0] in weighted[d][p]}
         try:
-            ps.mean_comfort = mean_comfort(fs, weighted=w, method=filter_method, **dirs)
+            ps.mean_comfort = mean_comfort(fs, x=dirs.get("x"), y=dirs.get("y"), z=dirs.get("z"),
+                                           weighted=w, method=filter_method)
         except FlexrideError as exc:
             ps.errors["mean_comfort"] = _err(exc)
         if ps.on_floor is False:
@@ -469,8 +472,8 @@ def _analyze_direction(
     x: np.ndarray,
     fs: float,
     t0: float,
-    sperling_form: str,
-    filter_method: str,
+    sperling_form: SperlingForm,
+    filter_method: WeightingMethod,
     arrays: bool,
     points: dict[str, PointSummary],
     dynamic: dict[str, dict[str, np.ndarray]],
@@ -498,9 +501,10 @@ def _analyze_direction(
     # Sperling, default and alternative form
     if d in ("y", "z"):
         direction = "vertical" if d == "z" else "lateral"
-        for attr, form in (("sperling", sperling_form),
-                           ("sperling_alternative",
-                            "filter" if sperling_form == "spectral" else "spectral")):
+        alternative: SperlingForm = "filter" if sperling_form == "spectral" else "spectral"
+        forms: tuple[tuple[str, SperlingForm], ...] = (("sperling", sperling_form),
+                                                       ("sperling_alternative", alternative))
+        for attr, form in forms:
             try:
                 res = sperling(dyn, fs, direction, form=form)
                 for i, s in enumerate(summaries):
@@ -662,9 +666,11 @@ def summary_table(summary: Summary | dict[str, Any]) -> Table:
                "Wb (z) / Wd (y, x) · C_c: EN 12299 5 s · N_MV: EN 12299 standard method · "
                "peak: max |a| raw")
     table = Table(title=title)
-    for col, just in (("point", "left"), ("dir", "center"), ("W", "right"), ("grade", "left"),
-                      ("a_w m/s²", "right"), ("ISO 2631 comfort", "left"),
-                      ("C_c max m/s²", "right"), ("peak m/s²", "right"), ("N_MV", "right")):
+    columns: tuple[tuple[str, JustifyMethod], ...] = (
+        ("point", "left"), ("dir", "center"), ("W", "right"), ("grade", "left"),
+        ("a_w m/s²", "right"), ("ISO 2631 comfort", "left"), ("C_c max m/s²", "right"),
+        ("peak m/s²", "right"), ("N_MV", "right"))
+    for col, just in columns:
         table.add_column(col, justify=just)
     short = False
     for name, p in d["points"].items():
@@ -715,8 +721,10 @@ def safety_table(summary: Summary | dict[str, Any]) -> Table | None:
     table = Table(title="running safety", caption=(
         "Q/P, ΔP/P: GB 5599 limits 1.2, 0.65 · ΣY: EN 14363 10 + P0/3 kN · 20 Hz low pass, "
         "2 m sliding mean (Q/P, ΣY), maximum"))
-    for col, just in (("location", "left"), ("quantity", "left"), ("value", "right"),
-                      ("limit", "right"), ("use", "right"), ("", "left")):
+    columns: tuple[tuple[str, JustifyMethod], ...] = (
+        ("location", "left"), ("quantity", "left"), ("value", "right"), ("limit", "right"),
+        ("use", "right"), ("", "left"))
+    for col, just in columns:
         table.add_column(col, justify=just)
     label = {"derailment_coefficient": "Q/P", "wheel_unloading": "ΔP/P",
              "wheelset_lateral_force": "ΣY kN"}

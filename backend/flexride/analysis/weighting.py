@@ -49,6 +49,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy import fft as sp_fft
 from scipy import signal
 
@@ -170,6 +171,7 @@ def weighting_response(name: str, f: np.ndarray | float) -> np.ndarray:
     hh = np.where(f == 0.0, 0.0, hh)
     hl = 1.0 / (1.0 + s / (_Q2 * w2) + (s / w2) ** 2)
     ht = w.k * (1.0 + s / w3) / (1.0 + s / (w.q4 * w4) + (s / w4) ** 2)
+    hs: float | NDArray[np.complex128]
     if math.isinf(w.f5):
         hs = 1.0
     else:

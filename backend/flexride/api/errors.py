@@ -104,16 +104,20 @@ async def _flexride_error(request: Request, exc: Exception) -> JSONResponse:
 async def _validation_error(_request: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, RequestValidationError)
     items = []
+    parts: list[str] = []
     for err in exc.errors():
         ctx = err.get("ctx")
+        loc = [p if isinstance(p, int) else str(p) for p in err.get("loc", ())]
+        msg = str(err.get("msg", "")) + allowed_range(ctx)
         items.append({
-            "loc": [p if isinstance(p, int) else str(p) for p in err.get("loc", ())],
-            "msg": str(err.get("msg", "")) + allowed_range(ctx),
+            "loc": loc,
+            "msg": msg,
             "type": str(err.get("type", "validation")),
             "ctx": {k: v if isinstance(v, int | float | str | bool) or v is None else str(v)
                     for k, v in ctx.items()} if ctx else None,
         })
-    message = "; ".join(f"{'.'.join(map(str, i['loc']))}: {i['msg']}" for i in items)
+        parts.append(f"{'.'.join(map(str, loc))}: {msg}")
+    message = "; ".join(parts)
     return _error(422, items, message)
 
 

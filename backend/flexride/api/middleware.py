@@ -13,17 +13,20 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from starlette.exceptions import HTTPException
 from starlette.routing import BaseRoute, Match, Router
 
-try:  # FastAPI ≥ 0.130 keeps included routers whole; this walks their effective routes
+if TYPE_CHECKING:  # checked against the installed FastAPI (≥ 0.130)
     from fastapi.routing import iter_route_contexts as _route_contexts
-except ImportError:  # pragma: no cover - older FastAPI copies every route into the app
+else:
+    try:  # FastAPI ≥ 0.130 keeps included routers whole; this walks their effective routes
+        from fastapi.routing import iter_route_contexts as _route_contexts
+    except ImportError:  # pragma: no cover - older FastAPI copies every route into the app
 
-    def _route_contexts(routes: Iterable[BaseRoute]) -> Iterable[BaseRoute]:
-        return routes
+        def _route_contexts(routes: Iterable[BaseRoute]) -> Iterable[BaseRoute]:
+            return routes
 
 
 class _TooLarge(HTTPException):

@@ -100,7 +100,7 @@ def store(key: str, arrays: dict[str, np.ndarray], info: dict) -> Path | None:
                 with open(files.enter_context(atomic_path(d / f"{key}.{name}.npy")), "wb") as fh:
                     np.save(fh, np.ascontiguousarray(arrays[name]), allow_pickle=False)
             with open(files.enter_context(atomic_path(d / f"{key}.npz")), "wb") as fh:
-                np.savez(fh, **small)
+                np.savez(fh, allow_pickle=False, **small)  # numeric arrays; load refuses pickles
             meta = files.enter_context(atomic_path(d / f"{key}.json"))
             meta.write_text(json.dumps(_canonical({**info, "_mapped": mapped})),
                             encoding="utf-8")

@@ -20,8 +20,9 @@ from scipy.optimize import least_squares
 from flexride.errors import FEModelError
 from flexride.fem.carbody import CarBodyParams, build_carbody
 from flexride.fem.classify import classify_mode
-from flexride.fem.eigen import free_free_modes
+from flexride.fem.eigen import Modes, free_free_modes
 from flexride.fem.massmatch import InertiaTarget
+from flexride.fem.model import FEModel
 from flexride.fem.rigid import rigid_body_vectors
 
 #: Calibration variables and their bounds (SI units).
@@ -131,16 +132,18 @@ class CalibrationResult:
             c = self.classification[k] if k < len(self.classification) else ""
             lines.append(f"{k + 1:4d} {t:10.3f} {f:9.3f} {100 * e:8.2f}  {c}")
         lines.append("variables (initial -> calibrated, bounds):")
-        for k, v in self.values.items():
-            lo, hi = self.bounds[k]
-            flag = "  AT BOUND" if k in self.at_bound else ""
-            lines.append(f"  {k:15s} {self.initial[k]:.5g} -> {v:.5g}  [{lo:g}, {hi:g}]{flag}")
+        for name, v in self.values.items():
+            lo, hi = self.bounds[name]
+            flag = "  AT BOUND" if name in self.at_bound else ""
+            lines.append(
+                f"  {name:15s} {self.initial[name]:.5g} -> {v:.5g}  [{lo:g}, {hi:g}]{flag}"
+            )
         return "\n".join(lines)
 
 
 def carbody_frequencies(
     params: CarBodyParams, target: InertiaTarget, element_size: float, n: int
-) -> tuple[np.ndarray, object, object]:
+) -> tuple[np.ndarray, FEModel, Modes]:
     """First ``n`` elastic frequencies (Hz) of the mass-matched car body, and (model, modes)."""
     model = build_carbody(params, target, element_size)
     K, M = model.assemble()

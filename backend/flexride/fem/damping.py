@@ -96,7 +96,7 @@ def modal_damping_ratios(spec: DampingSpec, frequencies: np.ndarray) -> np.ndarr
         spec = spec.resolve(f)
     if isinstance(spec, RayleighDamping):
         z = spec.ratios(f)
-    elif np.isscalar(spec):
+    elif isinstance(spec, (int, float, np.integer, np.floating)):
         z = np.full(f.size, float(spec))
     else:
         arr = np.asarray(spec, dtype=float).ravel()

@@ -122,8 +122,8 @@ def solve_modes(
     if n_modes is None and f_max is None:
         raise ValueError("give n_modes or f_max")
     if n <= dense_below:
-        Kd = K.toarray() if sp.issparse(K) else np.asarray(K)
-        Md = M.toarray() if sp.issparse(M) else np.asarray(M)
+        Kd = np.asarray(K) if isinstance(K, np.ndarray) else K.toarray()
+        Md = np.asarray(M) if isinstance(M, np.ndarray) else M.toarray()
         w2, phi = la.eigh(0.5 * (Kd + Kd.T), 0.5 * (Md + Md.T))
         f = np.sqrt(np.abs(w2)) / (2 * np.pi) * np.sign(w2)
         keep = np.ones(n, dtype=bool)
@@ -140,6 +140,8 @@ def solve_modes(
         factor = ShiftInvert(K, M, sigma)
     project = _projector(M, deflate)
     if f_max is None:
+        if n_modes is None:  # checked on entry; narrows the type
+            raise ValueError("give n_modes or f_max")
         w2, phi = _eigsh(K, M, factor, int(min(max(n_modes, 1), n - 2)), tol, project)
         return Modes(_freq(w2), _mass_normalise(phi, M))
     w2, phi = _sliced(K, M, factor, (2 * np.pi * f_max) ** 2, n_modes or 0, tol, project, window)

@@ -40,7 +40,7 @@ from flexride.fem.rigid import MassProperties, rigid_body_vectors
 
 Kind = Literal["carbody", "frame"]
 Method = Literal["guyan", "craig-bampton", "modal"]
-METHODS = ("guyan", "craig-bampton", "modal")
+METHODS: tuple[Method, ...] = ("guyan", "craig-bampton", "modal")
 
 #: Suspension attachment nodes (Guyan masters, Craig–Bampton interface) of each model.
 ATTACHMENTS = {
@@ -184,12 +184,11 @@ def build_fe_model(
         if element_size > 1.0 or element_size < 0.05:
             raise FEModelError(f"car-body element size must be 0.05–1.0 m, got {element_size}")
         target = carbody_target(vehicle)
-        p = carbody_params_for(vehicle, params)
-        return build_carbody(p, target, element_size), target
+        return build_carbody(carbody_params_for(vehicle, params), target, element_size), target
     if kind == "frame":
         target = frame_target(vehicle)
-        p = frame_params_for(vehicle, params)
-        return build_frame(p, target, min(element_size / 2.0, 0.1)), target
+        frame = build_frame(frame_params_for(vehicle, params), target, min(element_size / 2.0, 0.1))
+        return frame, target
     raise FEModelError(f"unknown body kind {kind!r}: use 'carbody' or 'frame'")
 
 
@@ -204,6 +203,13 @@ def _classify(model: FEModel, shapes: np.ndarray, M, kind: str) -> list[str]:
         else:
             out.append(classify_mode(phi, M, model.nodes))
     return out + [""] * (shapes.shape[2] - len(out))
+
+
+def _reduced_modes(modes: BodyModes) -> np.ndarray:
+    """The modes in reduced coordinates (always set by :func:`reduced_to_modal_body`)."""
+    if modes.reduced_modes is None:
+        raise FEModelError(f"body {modes.body.name!r} has no modes in reduced coordinates")
+    return modes.reduced_modes
 
 
 def reduce_model(
@@ -251,7 +257,7 @@ def reduce_model(
         modes.node_names = markers
         n_red = 6 + modes.body.n_elastic
         master: dict[str, int] = {}
-        A = modes.reduced_modes
+        A = _reduced_modes(modes)
     else:
         names = master_names if method == "guyan" else interface_names
         missing = [n for n in names if n not in markers]
@@ -280,12 +286,13 @@ def reduce_model(
         )
         n_red = red.n_reduced
         info = dict(red.info)
-        A = red.recovery @ modes.reduced_modes
+        q = _reduced_modes(modes)
+        A = red.recovery @ q
         if method == "guyan":
-            g_err = guyan_error_indicator(red, modes.reduced_modes, modes.body.elastic_frequencies)
+            g_err = guyan_error_indicator(red, q, modes.body.elastic_frequencies)
             info["guyan_error_max"] = float(np.max(g_err)) if g_err.size else 0.0
     ne = modes.body.n_elastic
-    B = full_modes.reduced_modes
+    B = _reduced_modes(full_modes)
     mac = mac_matrix(A, B, M) if ne and B.shape[1] else np.zeros((ne, B.shape[1]))
     cls = _classify(model, modes.shapes, M, kind) if P is None else [""] * ne
     report = ReductionReport(

@@ -147,11 +147,11 @@ def reduced_to_modal_body(
                 f"{R_nodes.shape[0]} (6 per node)"
             )
         R = R_nodes if rigid_basis is None else np.asarray(rigid_basis, dtype=float)
-    else:
+    elif rigid_basis is not None:
         R = rigid_basis
-        if R is None:
-            T = _dense(recovery)
-            R, *_ = np.linalg.lstsq(T, R_nodes, rcond=None)
+    else:
+        T = _dense(recovery)
+        R, *_ = np.linalg.lstsq(T, R_nodes, rcond=None)
     Mrr = R.T @ (M @ R)
     props = mass_properties_from_rigid_mass(Mrr)
     if props.mass <= 0 or np.any(np.linalg.eigvalsh(props.inertia) <= 0):

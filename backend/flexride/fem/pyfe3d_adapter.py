@@ -311,8 +311,12 @@ def assemble(
         if lumped:  # mtype=1 writes only the first 120 entries per element
             keep = (np.arange(mr.size) % data.M_SPARSE_SIZE) < 120
             mr, mc, mv = mr[keep], mc[keep], mv[keep]
-        ks_r.append(kr), ks_c.append(kc), ks_v.append(kv)
-        ms_r.append(mr), ms_c.append(mc), ms_v.append(mv)
+        ks_r.append(kr)
+        ks_c.append(kc)
+        ks_v.append(kv)
+        ms_r.append(mr)
+        ms_c.append(mc)
+        ms_v.append(mv)
 
     nb = len(mesh.beams)
     if nb:
@@ -340,8 +344,12 @@ def assemble(
         if lumped:
             keep = (np.arange(mr.size) % data.M_SPARSE_SIZE) < msize
             mr, mc, mv = mr[keep], mc[keep], mv[keep]
-        ks_r.append(kr), ks_c.append(kc), ks_v.append(kv)
-        ms_r.append(mr), ms_c.append(mc), ms_v.append(mv)
+        ks_r.append(kr)
+        ks_c.append(kc)
+        ks_v.append(kv)
+        ms_r.append(mr)
+        ms_c.append(mc)
+        ms_v.append(mv)
 
     ns = len(mesh.springs)
     if ns:
@@ -359,11 +367,15 @@ def assemble(
             s.kxe, s.kye, s.kze, s.krxe, s.krye, s.krze = k
             s.update_rotation_matrix(1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
             s.update_KC0(kr, kc, kv)
-        ks_r.append(kr), ks_c.append(kc), ks_v.append(kv)
+        ks_r.append(kr)
+        ks_c.append(kc)
+        ks_v.append(kv)
 
     if len(mesh.mass_nodes):
         r, c, v = lumped_mass_triplets(mesh.mass_nodes, mesh.mass_values, mesh.mass_offsets)
-        ms_r.append(r), ms_c.append(c), ms_v.append(v)
+        ms_r.append(r)
+        ms_c.append(c)
+        ms_v.append(v)
 
     def cat(parts, dtype):
         return np.concatenate(parts) if parts else np.zeros(0, dtype=dtype)

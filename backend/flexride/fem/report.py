@@ -159,7 +159,8 @@ class ReductionReport:
                 if 0 <= j < len(self.full_frequencies)
                 else " " * 9
             )
-            er = f"{100 * errs[k]:8.2f}" if errs[k] is not None else " " * 8
+            err = errs[k]
+            er = f"{100 * err:8.2f}" if err is not None else " " * 8
             mac = f"{self.mac[k][j]:6.3f}" if 0 <= j < len(self.full_frequencies) else " " * 6
             row = f"{k + 1:4d} {fr:11.3f} {ff} {er} {mac}"
             if self.guyan_error is not None:

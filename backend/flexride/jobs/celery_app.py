@@ -8,12 +8,16 @@ task is in :mod:`flexride.jobs.celery_tasks`.
 from __future__ import annotations
 
 import logging
+from typing import TYPE_CHECKING
 
 from celery import Celery, signals
 
 from flexride.jobs.celery_config import celery_config
 from flexride.jobs.warmup import single_threaded_env
 from flexride.settings import get_settings
+
+if TYPE_CHECKING:
+    from flexride.study.run_job import JobContext
 
 single_threaded_env()
 
@@ -22,7 +26,7 @@ log = logging.getLogger("flexride.worker")
 app = Celery("flexride", include=["flexride.jobs.celery_tasks"])
 app.conf.update(celery_config(get_settings()))
 
-_state: dict[str, object] = {}
+_state: dict[str, JobContext] = {}
 
 
 @signals.worker_init.connect
@@ -54,7 +58,7 @@ def _child_stopping(**_kwargs) -> None:
         ctx.presence.stop()
 
 
-def job_context():
+def job_context() -> JobContext:
     """This child's :class:`~flexride.study.run_job.JobContext` (created on first use)."""
     ctx = _state.get("ctx")
     if ctx is None:  # e.g. the solo pool, where worker_process_init is not sent

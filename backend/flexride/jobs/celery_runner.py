@@ -42,6 +42,7 @@ class CeleryRunner(JobRunner):
     def __init__(self, settings: Settings, store: JobStore):
         if not settings.broker_url:
             raise ValueError("the Celery runner needs FLEXRIDE_BROKER_URL")
+        self.broker_url: str = settings.broker_url
         self.settings = settings
         self.store = store
         self.app = make_client(settings)
@@ -114,12 +115,12 @@ class CeleryRunner(JobRunner):
     def _redis(self):
         import redis
 
-        return redis.Redis.from_url(self.settings.broker_url, socket_timeout=2.0,
+        return redis.Redis.from_url(self.broker_url, socket_timeout=2.0,
                                     socket_connect_timeout=2.0)
 
     def _broker_run_id(self) -> str | None:
         """Redis's ``run_id`` (changes when the server restarts); None if unknown/unreachable."""
-        if not str(self.settings.broker_url).startswith(("redis://", "rediss://")):
+        if not self.broker_url.startswith(("redis://", "rediss://")):
             return None
         try:
             client = self._redis()
@@ -132,10 +133,10 @@ class CeleryRunner(JobRunner):
 
     def status(self) -> dict[str, Any]:
         """Broker reachability and the number of messages waiting in the queue."""
-        url = redact_url(self.settings.broker_url)
+        url = redact_url(self.broker_url)
         info: dict[str, Any] = {"kind": self.kind, "broker": url}
         try:
-            if str(self.settings.broker_url).startswith(("redis://", "rediss://")):
+            if self.broker_url.startswith(("redis://", "rediss://")):
                 client = self._redis()
                 try:
                     client.ping()

@@ -47,7 +47,7 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
     """
     from flexride.jobs.presence import Presence
     from flexride.jobs.warmup import limit_blas_threads, warm_numba
-    from flexride.study.run_job import JobContext, run_claimed
+    from flexride.study.run_job import JobContext, claimed_job, run_claimed
 
     logging.basicConfig(level=str(settings_data.get("log_level", "info")).upper(),
                         format="%(asctime)s %(levelname)s [%(processName)s] %(message)s")
@@ -72,7 +72,7 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
                     wake.clear()
                 continue
             if claim.claimed:
-                run_claimed(claim.job, ctx)
+                run_claimed(claimed_job(claim), ctx)
     finally:
         ctx.presence.stop()
 

@@ -32,7 +32,7 @@ def limit_blas_threads(n: int = 1) -> list[str]:
     """
     import ctypes
 
-    changed = []
+    changed: list[str] = []
     try:
         with open("/proc/self/maps") as f:
             paths = {line.split()[-1] for line in f if "openblas" in line.lower()}

@@ -62,7 +62,9 @@ class Scenario(Schema):
         """Simulated time (s)."""
         if self.duration_s is not None:
             return self.duration_s
-        return float(self.distance_m) / self.speed_mps
+        if self.distance_m is None:  # only if validation was bypassed (model_construct)
+            raise ScenarioError.at((), "give exactly one of duration_s (s) and distance_m (m)")
+        return self.distance_m / self.speed_mps
 
 
 def allowed_range(ctx: dict[str, Any] | None) -> str:

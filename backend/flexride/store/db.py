@@ -14,7 +14,7 @@ import os
 import threading
 from pathlib import Path
 
-from sqlalchemy import Engine, create_engine, event, inspect, text
+from sqlalchemy import Engine, create_engine, event, insert, inspect, text, update
 from sqlalchemy.engine import make_url
 
 from flexride.store.models import SCHEMA_VERSION, Base, SchemaInfo
@@ -116,9 +116,8 @@ def init_db(engine: Engine) -> None:
             log.info("job store migrated: added %s", ", ".join(added))
         row = conn.execute(text("SELECT version FROM flexride_schema WHERE id = 1")).first()
         if row is None:
-            conn.execute(SchemaInfo.__table__.insert().values(id=1, version=SCHEMA_VERSION))
+            conn.execute(insert(SchemaInfo).values(id=1, version=SCHEMA_VERSION))
         elif row[0] < SCHEMA_VERSION:
             conn.execute(
-                SchemaInfo.__table__.update().where(SchemaInfo.id == 1)
-                .values(version=SCHEMA_VERSION)
+                update(SchemaInfo).where(SchemaInfo.id == 1).values(version=SCHEMA_VERSION)
             )

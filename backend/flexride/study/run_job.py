@@ -19,7 +19,7 @@ from typing import Any
 from flexride.errors import FlexrideError, SimulationCancelled, StorageError
 from flexride.jobs.presence import Presence, worker_is_dead
 from flexride.settings import Settings
-from flexride.store import Job, JobStore, ResultFiles, now
+from flexride.store import Claim, Job, JobStore, ResultFiles, now
 
 log = logging.getLogger(__name__)
 
@@ -123,7 +123,14 @@ def claim_and_run(job_id: str, ctx: JobContext) -> str:
     if not claim.claimed:
         log.info("job %s not run by %s: %s", job_id, ctx.worker, claim.reason)
         return claim.reason
-    return run_claimed(claim.job, ctx)
+    return run_claimed(claimed_job(claim), ctx)
+
+
+def claimed_job(claim: Claim) -> Job:
+    """The job record of a successful claim (the store always returns it with the claim)."""
+    if claim.job is None:
+        raise FlexrideError(f"the job store granted a claim without its job ({claim.reason})")
+    return claim.job
 
 
 def run_claimed(job: Job, ctx: JobContext) -> str:

@@ -90,7 +90,7 @@ class Submitter:
                       cancel_requested=False, attempts=0)
         if reuse and self.settings.reuse_results:
             src = self.store.find_reusable(digest)
-            if src is not None and self.files.exists(src.result_file):
+            if src is not None and src.result_file and self.files.exists(src.result_file):
                 file_name = self.files.copy(src.result_file, job_id)
                 job = Job(**common, status="succeeded", progress=1.0,
                           message=f"results reused from job {src.id}", started_at=t,

@@ -14,7 +14,9 @@ from flexride.api.services import studies as svc_studies
 router = APIRouter(tags=["studies"])
 
 StudyId = Annotated[str, Path(min_length=1, max_length=64, description="Study id")]
-_AUTH_DOC = {401: {"description": "Bearer token missing or wrong"}}
+_AUTH_DOC: dict[int | str, dict[str, Any]] = {
+    401: {"description": "Bearer token missing or wrong"}
+}
 
 
 @router.post("/studies", status_code=201, response_model=StudyDetail, dependencies=AUTH,
