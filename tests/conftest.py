@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import pytest
-
 from flexride.model.presets import load_preset
 from flexride.model.scenario import Scenario
 
@@ -14,9 +12,3 @@ def preset(name: str = "paper-metro", **overrides: Any) -> Scenario:
     """A preset scenario with dotted-path overrides given as keyword arguments
     (``solver__dt=5e-5`` becomes ``solver.dt``)."""
     return load_preset(name, {k.replace("__", "."): v for k, v in overrides.items()})
-
-
-@pytest.fixture
-def make_scenario():
-    """Factory fixture for :func:`preset`."""
-    return preset

@@ -12,7 +12,7 @@ from flexride.solver.linearise import jacobian
 
 
 def _rail_block(asm, side, direction):
-    nv = int(asm.sys.ipar[0])
+    nv = asm.sys.par.n_veh
     nm = asm.rail.n_modes
     o = nv + (3 * side + direction) * nm
     return np.arange(o, o + nm)

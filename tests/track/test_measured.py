@@ -10,7 +10,7 @@ import pytest
 
 from flexride.errors import ScenarioError
 from flexride.model.excitation import MeasuredIrregularity
-from flexride.track.irregularities import build_profile
+from flexride.track.excitation import build_profile
 from flexride.track.measured import (
     MeasuredSources,
     load_measured,

@@ -1,7 +1,7 @@
 """Track excitation (track irregularity) schemas.
 
 A scenario lists any number of excitations; they are summed into one rail irregularity profile
-by :func:`flexride.track.irregularities.build_profile`. Each kind is selected by its ``kind``
+by :func:`flexride.track.excitation.build_profile`. Each kind is selected by its ``kind``
 field (a pydantic discriminated union, :data:`Excitation`):
 
 ``"random"``       :class:`RandomIrregularity` — stationary Gaussian irregularity from the German
@@ -59,7 +59,7 @@ class RandomIrregularity(Schema):
     are statistically independent; each is drawn from its own random stream derived from
     ``seed``, so switching one component off does not change the others.
 
-    Rail mapping (see :mod:`flexride.track.irregularities`): with b = 0.75 m,
+    Rail mapping (see :mod:`flexride.track.spectra`): with b = 0.75 m,
     z_left = z_v + b·c, z_right = z_v − b·c (c the cross-level angle in rad, so the rail height
     difference is 2b·c), y_left = y_a + g/2, y_right = y_a − g/2 (g the gauge deviation,
     widening positive).

@@ -6,27 +6,25 @@ Runs once per scenario in NumPy; nothing here is in the time loop.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
 from flexride.contact.geometry import ContactTable, conical_table
 from flexride.contact.hertz import hertz_constant
 from flexride.errors import ScenarioError
-from flexride.model.excitation import RandomIrregularity
 from flexride.model.scenario import Scenario
 from flexride.solver import system as S
-from flexride.track.irregularities import IrregularityProfile, build_profile
+from flexride.track.excitation import build_profile
 from flexride.track.line_geometry import GRAVITY, LineTable, build_line_table
 from flexride.track.measured import LIBRARY, MeasuredSources
+from flexride.track.profile import IrregularityProfile
 from flexride.track.rail import RailModel, build_rail_model
 from flexride.vehicle.topology import VehicleModel, build_vehicle
 
 RIGID_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
 RAIL_DIRS = ("vertical", "lateral", "torsion")
 SIDES = ("left", "right")
-#: Random irregularity fades in over this distance at the start of the route (m), so the run
-#: does not begin with a step.
-RANDOM_FADE_IN_M = 20.0
 #: Speed below which creepages are referred to this value instead (m/s): keeps creep forces
 #: finite at standstill (they saturate anyway).
 CREEP_MIN_SPEED = 0.5
@@ -74,32 +72,25 @@ def output_rate_for(scenario: Scenario) -> float:
 
 def _irregularity(scenario: Scenario, length: float, sources: MeasuredSources
                   ) -> IrregularityProfile:
+    """Sum of the excitations' profiles, each on its own grid (:func:`build_profile` of one
+    excitation, errors located at ``excitation[i]``); flat track without excitations."""
     b = scenario.track.rail_centre_half_distance
-    total: IrregularityProfile | None = None
+    profiles = []
     for i, exc in enumerate(scenario.excitation):
         try:
-            prof = build_profile([exc], length, half_gauge=b, sources=sources)
+            profiles.append(build_profile([exc], length, half_gauge=b, sources=sources))
         except ScenarioError as err:
             raise err.located(("excitation", i)) from None
-        if isinstance(exc, RandomIrregularity):
-            s = prof.s
-            w = np.clip(s / RANDOM_FADE_IN_M, 0.0, 1.0)
-            w = 0.5 - 0.5 * np.cos(np.pi * w)
-            prof = IrregularityProfile(
-                prof.s0,
-                prof.ds,
-                prof.z_left * w,
-                prof.z_right * w,
-                prof.y_left * w,
-                prof.y_right * w,
-            )
-        total = prof if total is None else total + prof
-    if total is None:
-        total = IrregularityProfile.zeros(length, 1.0)
+    if not profiles:
+        return IrregularityProfile.zeros(length, 1.0)
+    total = profiles[0]
+    for prof in profiles[1:]:
+        total = total + prof
     return total
 
 
-def _flexible(kind: str, scenario: Scenario, settings, name: str, x_ref: float):
+def _flexible(kind: Literal["carbody", "frame"], scenario: Scenario, settings, name: str,
+              x_ref: float):
     from flexride.fem.damping import RayleighThroughModes
     from flexride.fem.flexible import build_flexible_body
 
@@ -297,61 +288,55 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
             dof_names.extend(f"rail.{side}.{d}.mode{k + 1}" for k in range(nm))
     static.extend(range(n_veh, n))
 
-    fpar = np.zeros(S.N_FPAR)
-    fpar[S.F_DT] = sol.dt
-    fpar[S.F_PSI] = sol.psi
-    fpar[S.F_PHI] = sol.phi
-    fpar[S.F_SPEED] = speed
-    fpar[S.F_GRAVITY] = GRAVITY
-    fpar[S.F_B0] = b0
-    fpar[S.F_R0] = r0
-    fpar[S.F_RAIL_B] = b_rail
-    fpar[S.F_WIN_LEN] = rail.length
-    fpar[S.F_SPACING] = rail.spacing
-    fpar[S.F_RAIL_M] = rail.mass
-    fpar[S.F_RAIL_J] = rail.roll_inertia
-    fpar[S.F_H_FOOT] = rail.h_foot
-    fpar[S.F_H_HEAD] = rail.h_head
-    fpar[S.F_KZ_D] = rail.kz / rail.spacing
-    fpar[S.F_CZ_D] = rail.cz / rail.spacing
-    fpar[S.F_KY_D] = rail.ky / rail.spacing
-    fpar[S.F_CY_D] = rail.cy / rail.spacing
-    fpar[S.F_KR_D] = rail.k_roll / rail.spacing
-    fpar[S.F_CR_D] = rail.c_roll / rail.spacing
-    fpar[S.F_MU] = c.friction
-    fpar[S.F_GSHEAR] = c.shear_modulus
-    fpar[S.F_HERTZ_G] = hertz_constant(r0, c.hertz_tread)
-    fpar[S.F_FL_CLEAR] = c.flange_clearance
-    fpar[S.F_FL_K] = c.flange_stiffness
-    fpar[S.F_RUNAWAY] = sol.runaway_displacement_m
-    fpar[S.F_VMIN] = CREEP_MIN_SPEED
-    fpar[S.F_CT_Y0] = tparams[0]
-    fpar[S.F_CT_DY] = tparams[1]
-    fpar[S.F_IRR_S0] = irr.s0
-    fpar[S.F_IRR_DS] = irr.ds
-    fpar[S.F_LN_S0] = line.s0
-    fpar[S.F_LN_DS] = line.ds
-    fpar[S.F_S_START] = 0.0
-    fpar[S.F_MARGIN] = sol.rail_margin_m
     # traction link: 0.05 Hz, critically damped, on the whole vehicle mass
     w_tr = 2.0 * np.pi * TRACTION_LINK_HZ
-    fpar[S.F_K_TRACTION] = veh.total_mass * w_tr**2
-    fpar[S.F_C_TRACTION] = 2.0 * veh.total_mass * w_tr
-
-    ipar = np.zeros(S.N_IPAR, dtype=np.int64)
-    ipar[S.I_NVEH] = n_veh
-    ipar[S.I_NRAIL_MODES] = nm
-    ipar[S.I_NBODIES] = nb
-    ipar[S.I_NELEM] = ne
-    ipar[S.I_NWS] = len(veh.wheelsets)
-    ipar[S.I_NDEC] = ndec
-    ipar[S.I_SHIFT_BAYS] = nshift
-    ipar[S.I_NPOINTS] = len(veh.points)
-    ipar[S.I_NCH] = len(names)
+    par = S.make_scalars(
+        dt=sol.dt,
+        psi=sol.psi,
+        phi=sol.phi,
+        speed=speed,
+        gravity=GRAVITY,
+        b0=b0,
+        r0=r0,
+        win_len=rail.length,
+        spacing=rail.spacing,
+        h_foot=rail.h_foot,
+        h_head=rail.h_head,
+        cz_d=rail.cz / rail.spacing,
+        ky_d=rail.ky / rail.spacing,
+        cy_d=rail.cy / rail.spacing,
+        kr_d=rail.k_roll / rail.spacing,
+        cr_d=rail.c_roll / rail.spacing,
+        mu=c.friction,
+        g_shear=c.shear_modulus,
+        hertz_g=hertz_constant(r0, c.hertz_tread),
+        flange_clearance=c.flange_clearance,
+        flange_k=c.flange_stiffness,
+        runaway=sol.runaway_displacement_m,
+        v_min=CREEP_MIN_SPEED,
+        ct_y0=tparams[0],
+        ct_dy=tparams[1],
+        irr_s0=irr.s0,
+        irr_ds=irr.ds,
+        ln_s0=line.s0,
+        ln_ds=line.ds,
+        s_start=0.0,
+        margin=sol.rail_margin_m,
+        k_traction=veh.total_mass * w_tr**2,
+        c_traction=2.0 * veh.total_mass * w_tr,
+        n_veh=n_veh,
+        n_rail_modes=nm,
+        n_bodies=nb,
+        n_elem=ne,
+        n_ws=len(veh.wheelsets),
+        n_dec=ndec,
+        shift_bays=nshift,
+        n_points=len(veh.points),
+        n_ch=len(names),
+    )
 
     sysarr = S.SystemArrays(
-        fpar=fpar,
-        ipar=ipar,
+        par=par,
         minv=minv,
         kdiag=kdiag,
         cdiag=cdiag,

@@ -39,37 +39,6 @@ from flexride.solver.system import (
     CT_GAMMA,
     CT_R,
     CT_YC,
-    F_B0,
-    F_C_TRACTION,
-    F_CR_D,
-    F_CT_DY,
-    F_CT_Y0,
-    F_CY_D,
-    F_CZ_D,
-    F_FL_CLEAR,
-    F_FL_K,
-    F_GRAVITY,
-    F_GSHEAR,
-    F_H_FOOT,
-    F_H_HEAD,
-    F_HERTZ_G,
-    F_IRR_DS,
-    F_IRR_S0,
-    F_K_TRACTION,
-    F_KR_D,
-    F_KY_D,
-    F_LN_DS,
-    F_LN_S0,
-    F_MU,
-    F_R0,
-    F_SPEED,
-    F_VMIN,
-    F_WIN_LEN,
-    I_NBODIES,
-    I_NELEM,
-    I_NRAIL_MODES,
-    I_NVEH,
-    I_NWS,
     LN_DKAPPA,
     LN_HEADING,
     LN_HINT,
@@ -130,14 +99,14 @@ def frame_specific_force(sys, s):
     Returns (f_y, f_z, kappa, roll, dkappa): f = a_frame − g, so that a body at rest in the
     frame feels f (an accelerometer reads f).
     """
-    fp = sys.fpar
+    par = sys.par
     ln = sys.line
-    s0, ds = fp[F_LN_S0], fp[F_LN_DS]
+    s0, ds = par.ln_s0, par.ln_ds
     kap = table_value(ln[LN_KAPPA], s0, ds, s)
     roll = table_value(ln[LN_ROLL], s0, ds, s)
     dk = table_value(ln[LN_DKAPPA], s0, ds, s)
-    v2 = fp[F_SPEED] * fp[F_SPEED]
-    g = fp[F_GRAVITY]
+    v2 = par.speed * par.speed
+    g = par.gravity
     c, sn = math.cos(roll), math.sin(roll)
     f_y = v2 * kap * c + g * sn
     f_z = -v2 * kap * sn + g * c
@@ -195,13 +164,12 @@ def vehicle_forces(sys, X, V, s, F):
     coordinates of each of its two bodies (the cost of a flexible body grows with its number of
     modes times the number of its attachment markers, DESIGN §3.5).
     """
-    fp = sys.fpar
-    ip = sys.ipar
-    nb = ip[I_NBODIES]
-    speed = fp[F_SPEED]
+    par = sys.par
+    nb = par.n_bodies
+    speed = par.speed
     phi = sys.phi
     ln = sys.line
-    ls0, lds = fp[F_LN_S0], fp[F_LN_DS]
+    ls0, lds = par.ln_s0, par.ln_ds
     bl = sys.body_line
     # bodies: gravity + frame acceleration on rigid coordinates, elastic restoring forces, and
     # the line values at each body (heading, lateral offset, roll, curvature, d(roll)/ds)
@@ -232,16 +200,16 @@ def vehicle_forces(sys, X, V, s, F):
                 fe[j] -= ke[j] * xe[j] + ce[j] * ve[j]
         if sys.body_ws[b] == 1:
             # spin gyroscopics: I_y Ω (ψ̇ + Vκ) in roll, −I_y Ω φ̇ in yaw
-            h = sys.body_inertia[b, 1] * speed / fp[F_R0]
+            h = sys.body_inertia[b, 1] * speed / par.r0
             F[o + 3] += h * (V[o + 5] + speed * kap)
             F[o + 5] -= h * V[o + 3]
     # speed control: a soft longitudinal link of the car body to the moving frame stands for the
     # traction that keeps the running speed against rolling resistance (no drift)
     F[sys.body_off[0]] -= (
-        fp[F_K_TRACTION] * X[sys.body_off[0]] + fp[F_C_TRACTION] * V[sys.body_off[0]]
+        par.k_traction * X[sys.body_off[0]] + par.c_traction * V[sys.body_off[0]]
     )
     # suspension elements
-    ne = ip[I_NELEM]
+    ne = par.n_elem
     for e in range(ne):
         a = sys.el_a[e]
         bb = sys.el_b[e]
@@ -294,14 +262,13 @@ def vehicle_forces(sys, X, V, s, F):
 def rail_forces(sys, X, V, F):
     """Beam and fastener forces of both rails, per mode (diagonal thanks to discrete
     orthogonality of sine modes at evenly spaced fasteners)."""
-    fp = sys.fpar
-    ip = sys.ipar
-    nm = ip[I_NRAIL_MODES]
-    nv = ip[I_NVEH]
-    czd = fp[F_CZ_D]
-    kyd, cyd = fp[F_KY_D], fp[F_CY_D]
-    krd, crd = fp[F_KR_D], fp[F_CR_D]
-    hf = fp[F_H_FOOT]
+    par = sys.par
+    nm = par.n_rail_modes
+    nv = par.n_veh
+    czd = par.cz_d
+    kyd, cyd = par.ky_d, par.cy_d
+    krd, crd = par.kr_d, par.cr_d
+    hf = par.h_foot
     for rail in range(2):
         oz = nv + (3 * rail) * nm
         oy = oz + nm
@@ -325,23 +292,22 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
     rolling direction), time constant τ = a/V, integrated exactly over ``relax_dt`` (transient
     rolling contact); with ``relax_dt`` = 0 the steady values are used (statics, Jacobians).
     """
-    fp = sys.fpar
-    ip = sys.ipar
-    nm = ip[I_NRAIL_MODES]
-    nv = ip[I_NVEH]
-    nw = ip[I_NWS]
-    speed = fp[F_SPEED]
-    vref = max(speed, fp[F_VMIN])
-    b0, r0 = fp[F_B0], fp[F_R0]
-    hh = fp[F_H_HEAD]
-    G = fp[F_HERTZ_G]
-    gsh, mu = fp[F_GSHEAR], fp[F_MU]
-    clear, kfl = fp[F_FL_CLEAR], fp[F_FL_K]
+    par = sys.par
+    nm = par.n_rail_modes
+    nv = par.n_veh
+    nw = par.n_ws
+    speed = par.speed
+    vref = max(speed, par.v_min)
+    b0, r0 = par.b0, par.r0
+    hh = par.h_head
+    G = par.hertz_g
+    gsh, mu = par.g_shear, par.mu
+    clear, kfl = par.flange_clearance, par.flange_k
     ct = sys.ct
-    y0, dy = fp[F_CT_Y0], fp[F_CT_DY]
+    y0, dy = par.ct_y0, par.ct_dy
     irr = sys.irr
-    is0, ids = fp[F_IRR_S0], fp[F_IRR_DS]
-    scale = 2.0 / fp[F_WIN_LEN]
+    is0, ids = par.irr_s0, par.irr_ds
+    scale = 2.0 / par.win_len
     for w in range(nw):
         b = sys.ws_body[w]
         o = sys.body_off[b]
@@ -349,7 +315,7 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
         xw = sw - s_win0
         # sines of all modes at the wheel (Chebyshev recurrence); a wheel outside the window
         # (never in a run, only in tests) rolls on rigid rail
-        if xw <= 0.0 or xw >= fp[F_WIN_LEN]:
+        if xw <= 0.0 or xw >= par.win_len:
             for k in range(nm):
                 sn[k] = 0.0
         else:

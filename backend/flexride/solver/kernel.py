@@ -31,23 +31,6 @@ from flexride.solver.system import (
     CH_WHEEL_FY,
     CH_WHEEL_FZ,
     CH_WHEEL_N,
-    F_DT,
-    F_GRAVITY,
-    F_MARGIN,
-    F_PHI,
-    F_PSI,
-    F_RUNAWAY,
-    F_S_START,
-    F_SPACING,
-    F_SPEED,
-    F_WIN_LEN,
-    I_NCH,
-    I_NDEC,
-    I_NPOINTS,
-    I_NRAIL_MODES,
-    I_NVEH,
-    I_NWS,
-    I_SHIFT_BAYS,
     T_FIRST,
     T_NREC,
     T_STEP,
@@ -88,8 +71,8 @@ def shift_window(sys, X, V, Ap, nshift, u, q):
     entering at the front start undeformed. Applied to coordinates, velocities and the previous
     accelerations of Zhai's scheme.
     """
-    nm = sys.ipar[I_NRAIL_MODES]
-    nv = sys.ipar[I_NVEH]
+    nm = sys.par.n_rail_modes
+    nv = sys.par.n_veh
     dst = sys.rail_dst
     nb = nm + 1
     for arr_id in range(3):
@@ -113,16 +96,15 @@ def shift_window(sys, X, V, Ap, nshift, u, q):
 
 @numba.njit(cache=True, fastmath=_FM)
 def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
-    fp = sys.fpar
-    ip = sys.ipar
+    par = sys.par
     k = int(tstate[T_NREC])
     if k >= rec.shape[0]:
         return False
-    ndec = ip[I_NDEC]
-    tout = ndec * fp[F_DT]
-    g = fp[F_GRAVITY]
+    ndec = par.n_dec
+    tout = ndec * par.dt
+    g = par.gravity
     phi = sys.phi
-    for p in range(ip[I_NPOINTS]):
+    for p in range(par.n_points):
         b = sys.pt_body[p]
         o = sys.body_off[b]
         nd = sys.body_ndof[b]
@@ -147,7 +129,7 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
         f_y, f_z, _, _, _ = frame_specific_force(sys, s + sys.body_x[b])
         pscr[p, 0] = ay + f_y + rx * f_z
         pscr[p, 1] = az + f_z - rx * f_y - g
-    for c in range(ip[I_NCH]):
+    for c in range(par.n_ch):
         kind = sys.ch_kind[c]
         a = sys.ch_a[c]
         bb = sys.ch_b[c]
@@ -173,7 +155,7 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
     rec_t[k] = tstate[T_TIME]
     rec_s[k] = s
     tstate[T_NREC] = k + 1
-    nw = ip[I_NWS]
+    nw = par.n_ws
     for w in range(nw):
         for sd in range(2):
             facc[w, sd, 0] = 0.0
@@ -190,7 +172,7 @@ def _check(sys, X, X0, info):
         if not math.isfinite(X[i]):
             info[0] = i
             return STATUS_NONFINITE
-    lim = sys.fpar[F_RUNAWAY]
+    lim = sys.par.runaway
     for b in range(sys.body_off.shape[0]):
         o = sys.body_off[b]
         for j in range(3):
@@ -229,33 +211,32 @@ def run_chunk(
     Returns a status code (STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY or STATUS_FULL when the
     record buffer is full); ``tstate`` carries time, window start, step and record counters.
     """
-    fp = sys.fpar
-    ip = sys.ipar
-    dt = fp[F_DT]
-    speed = fp[F_SPEED]
-    ndec = ip[I_NDEC]
-    nw = ip[I_NWS]
-    spacing = fp[F_SPACING]
-    win_len = fp[F_WIN_LEN]
-    margin = fp[F_MARGIN]
+    par = sys.par
+    dt = par.dt
+    speed = par.speed
+    ndec = par.n_dec
+    nw = par.n_ws
+    spacing = par.spacing
+    win_len = par.win_len
+    margin = par.margin
     x_front = -1e30
     for w in range(nw):
         xb = sys.body_x[sys.ws_body[w]]
         if xb > x_front:
             x_front = xb
-    nshift = ip[I_SHIFT_BAYS]
+    nshift = par.shift_bays
     for _ in range(n_steps):
         if tstate[T_FIRST] == 0.0:
             psi = 0.0
             ph = 0.0
             tstate[T_FIRST] = 1.0
         else:
-            psi = fp[F_PSI]
-            ph = fp[F_PHI]
+            psi = par.psi
+            ph = par.phi
         zhai_update(X, V, A, Ap, dt, psi, ph)
         t = tstate[T_TIME] + dt
         tstate[T_TIME] = t
-        s = fp[F_S_START] + speed * t
+        s = par.s_start + speed * t
         # move the rail window when the front wheelset nears its end
         if s + x_front - tstate[T_WIN_S0] > win_len - margin:
             shift_window(sys, X, V, Ap, nshift, u, q)

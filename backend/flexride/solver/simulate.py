@@ -120,12 +120,12 @@ def convected_rail_velocity(asm: Assembly, X0: np.ndarray) -> np.ndarray:
     Projected on the rail modes through the fastener values (discrete sine transform)."""
     sysarr = asm.sys
     V0 = np.zeros_like(X0)
-    nv = int(sysarr.ipar[S.I_NVEH])
-    nm = int(sysarr.ipar[S.I_NRAIL_MODES])
+    nv = sysarr.par.n_veh
+    nm = sysarr.par.n_rail_modes
     kap = sysarr.rail_kap
     xj = np.arange(1, nm + 1) * asm.rail.spacing
     cosm = np.cos(np.outer(xj, kap))
-    speed = float(sysarr.fpar[S.F_SPEED])
+    speed = sysarr.par.speed
     for blk in range(6):
         o = nv + blk * nm
         slope = cosm @ (kap * X0[o : o + nm])
@@ -176,7 +176,7 @@ def integrate(
     info = np.zeros(2, dtype=np.int64)
     tstate = np.zeros(S.N_TSTATE)
     tstate[S.T_WIN_S0] = s_win0
-    ndec = int(sysarr.ipar[S.I_NDEC])
+    ndec = sysarr.par.n_dec
     n_rec = asm.n_steps // ndec
     nch = len(asm.channel_names)
     rec = np.zeros((n_rec, nch))

@@ -16,17 +16,7 @@ import numpy as np
 from flexride.errors import StabilityError
 from flexride.solver.assemble import Assembly
 from flexride.solver.linearise import jacobian
-from flexride.solver.system import (
-    CT_CA,
-    F_CT_Y0,
-    F_DT,
-    F_GRAVITY,
-    F_MU,
-    F_PHI,
-    F_PSI,
-    F_SPEED,
-    F_VMIN,
-)
+from flexride.solver.system import CT_CA
 
 #: The requested step must stay below this fraction of the estimated limit.
 SAFETY = 0.9
@@ -80,10 +70,10 @@ def creep_relaxation_time(asm: Assembly) -> float:
     """Relaxation time of the creep forces at the static wheel load, τ = a/V (s)."""
     sys = asm.sys
     n_wheels = 2 * len(asm.vehicle.wheelsets)
-    load = asm.vehicle.total_mass * sys.fpar[F_GRAVITY] / n_wheels
-    i0 = round(-sys.fpar[F_CT_Y0] / (asm.contact.dy))
+    load = asm.vehicle.total_mass * sys.par.gravity / n_wheels
+    i0 = round(-sys.par.ct_y0 / (asm.contact.dy))
     a = sys.ct[0, CT_CA, i0] * load ** (1.0 / 3.0)
-    return float(a / max(sys.fpar[F_SPEED], sys.fpar[F_VMIN]))
+    return float(a / max(sys.par.speed, sys.par.v_min))
 
 
 def _nice_step(dt: float) -> float:
@@ -113,9 +103,8 @@ def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> d
     # creep forces relax over τ = a/V (transient rolling contact): the creep "damper" c acts in
     # series with the contact's tangential stiffness c/τ. Take the creep part of C (difference
     # to a run without friction) into the stiffness.
-    fp0 = sys.fpar.copy()
-    fp0[F_MU] = 0.0
-    C0 = -jacobian(sys._replace(fpar=fp0), X0, V0, s, s_win0, cols, wrt_velocity=True)
+    no_friction = sys._replace(par=sys.par._replace(mu=0.0))
+    C0 = -jacobian(no_friction, X0, V0, s, s_win0, cols, wrt_velocity=True)
     tau = creep_relaxation_time(asm)
     K = K + (C - C0) / tau
     C = C0
@@ -129,7 +118,7 @@ def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> d
     omega = np.sqrt(np.clip(lam, 0.0, None))
     cm = np.einsum("ij,ik,kj->j", vec, Cs, vec)
     cm = np.clip(cm, 0.0, None)
-    dts = critical_step(omega, cm, sys.fpar[F_PSI], sys.fpar[F_PHI])
+    dts = critical_step(omega, cm, sys.par.psi, sys.par.phi)
     j = int(np.argmin(dts))
     dt_max = float(dts[j]) * SAFETY
     dof = asm.dof_names[int(np.argmax(np.abs(vec[:, j])))]
@@ -145,7 +134,7 @@ def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> d
 def check_stability(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> dict:
     """Raise :class:`StabilityError` if the scenario's step exceeds the estimated limit."""
     info = stability_limit(asm, X0, s, s_win0)
-    dt = float(asm.sys.fpar[F_DT])
+    dt = float(asm.sys.par.dt)
     if dt > info["dt_max"]:
         raise StabilityError(
             f"time step solver.dt = {dt:g} s is beyond the stability limit of Zhai's explicit "

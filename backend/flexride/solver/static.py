@@ -8,7 +8,6 @@ import numpy as np
 from flexride.errors import SimulationError
 from flexride.solver.assemble import Assembly
 from flexride.solver.linearise import accelerations, jacobian
-from flexride.solver.system import F_GRAVITY, F_HERTZ_G, F_MARGIN
 
 
 def initial_window_start(asm: Assembly, s: float = 0.0) -> float:
@@ -16,7 +15,7 @@ def initial_window_start(asm: Assembly, s: float = 0.0) -> float:
     end, aligned with the fastener grid."""
     veh = asm.vehicle
     x_rear = min(veh.bodies[i].x_ref for i in veh.wheelsets)
-    margin = asm.sys.fpar[F_MARGIN]
+    margin = asm.sys.par.margin
     d = asm.rail.spacing
     return float(np.floor((s + x_rear - margin) / d) * d)
 
@@ -46,9 +45,9 @@ def static_equilibrium(
     X = np.zeros(n)
     V = np.zeros(n)
     # initial guess: each wheel carries an eighth of the weight (closes the Hertz contacts)
-    weight = asm.vehicle.total_mass * sys.fpar[F_GRAVITY]
+    weight = asm.vehicle.total_mass * sys.par.gravity
     n_wheels = 2 * len(asm.vehicle.wheelsets)
-    delta0 = sys.fpar[F_HERTZ_G] * (weight / n_wheels) ** (2.0 / 3.0)
+    delta0 = sys.par.hertz_g * (weight / n_wheels) ** (2.0 / 3.0)
     for w in asm.vehicle.wheelsets:
         X[sys.body_off[w] + 2] = -delta0
     idx = asm.static_dofs

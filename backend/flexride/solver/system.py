@@ -1,33 +1,98 @@
-"""SystemArrays: the flat arrays the numba kernel works on (no Python objects inside).
+"""SystemArrays: what the numba kernel works on — flat arrays and one tuple of named scalars.
 
 Coordinates are one vector: the vehicle bodies' coordinates one after another (6 rigid +
 elastic per body), then the rail modes ordered [rail (left, right)][direction (vertical,
-lateral, torsion)][mode]. Scalars sit in ``fpar``/``ipar`` at the indices named below.
+lateral, torsion)][mode]. Scalars are the named fields of :class:`Scalars` (``sys.par.speed``);
+rows and columns of the tables and state arrays are indexed by the constants below.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import NamedTuple, get_type_hints
 
 import numpy as np
 
-# --- float parameters (fpar) -------------------------------------------------------------
-F_DT, F_PSI, F_PHI, F_SPEED, F_GRAVITY, F_B0, F_R0, F_RAIL_B = range(8)
-F_WIN_LEN, F_SPACING, F_RAIL_M, F_RAIL_J, F_H_FOOT, F_H_HEAD = range(8, 14)
-F_KZ_D, F_CZ_D, F_KY_D, F_CY_D, F_KR_D, F_CR_D = range(14, 20)
-F_MU, F_GSHEAR, F_HERTZ_G, F_FL_CLEAR, F_FL_K, F_RUNAWAY, F_VMIN = range(20, 27)
-F_CT_Y0, F_CT_DY, F_IRR_S0, F_IRR_DS, F_LN_S0, F_LN_DS, F_S_START, F_MARGIN = range(27, 35)
-F_K_TRACTION, F_C_TRACTION = range(35, 37)
-N_FPAR = 37
 
-# --- integer parameters (ipar) -----------------------------------------------------------
-I_NVEH, I_NRAIL_MODES, I_NBODIES, I_NELEM, I_NWS, I_NDEC, I_SHIFT_BAYS, I_NPOINTS = range(8)
-I_NCH = 8
-N_IPAR = 9
+class Scalars(NamedTuple):
+    """Scalar parameters of the kernel, by name (a numba-typed named tuple: each access is a
+    field of the argument, no array load).
+
+    Floats are Python ``float`` and counts Python ``int`` (typed float64 / int64), so every
+    scenario gives the same numba signature.
+    """
+
+    dt: float  # time step (s)
+    psi: float  # Zhai's ψ (-)
+    phi: float  # Zhai's φ (-)
+    speed: float  # running speed V (m/s)
+    gravity: float  # g (m/s²)
+    b0: float  # half distance between the rolling circles (m)
+    r0: float  # nominal rolling radius (m)
+    win_len: float  # rail window length L (m)
+    spacing: float  # fastener spacing d (m)
+    h_foot: float  # shear centre above the rail foot h_f (m)
+    h_head: float  # running surface above the shear centre (m)
+    cz_d: float  # vertical fastener damping per length c_z/d (N·s/m²)
+    ky_d: float  # lateral fastener stiffness per length k_y/d (N/m²)
+    cy_d: float  # lateral fastener damping per length c_y/d (N·s/m²)
+    kr_d: float  # fastener roll stiffness per length k_r/d (N·m/rad/m)
+    cr_d: float  # fastener roll damping per length c_r/d (N·m·s/rad/m)
+    mu: float  # wheel–rail friction coefficient (-)
+    g_shear: float  # shear modulus of wheel and rail (Pa)
+    hertz_g: float  # Hertz contact constant G (m/N^(2/3))
+    flange_clearance: float  # lateral displacement where the flange touches (m)
+    flange_k: float  # flange contact stiffness (N/m)
+    runaway: float  # body displacement that stops a run (m)
+    v_min: float  # creepages referred to max(V, v_min) (m/s)
+    ct_y0: float  # first Δy of the contact table (m)
+    ct_dy: float  # step of the contact table (m)
+    irr_s0: float  # first grid point of the irregularity table (m)
+    irr_ds: float  # step of the irregularity table (m)
+    ln_s0: float  # first grid point of the line table (m)
+    ln_ds: float  # step of the line table (m)
+    s_start: float  # position of the vehicle centre at t = 0 (m)
+    margin: float  # rail kept beyond the outermost wheelsets (m)
+    k_traction: float  # traction link stiffness (N/m)
+    c_traction: float  # traction link damping (N·s/m)
+    n_veh: int  # vehicle coordinates
+    n_rail_modes: int  # modes per rail and direction
+    n_bodies: int  # bodies
+    n_elem: int  # suspension elements
+    n_ws: int  # wheelsets
+    n_dec: int  # steps per output sample
+    shift_bays: int  # fastener bays the rail window moves at once
+    n_points: int  # recorded points
+    n_ch: int  # recorded channels
+
+
+def make_scalars(**values: float) -> Scalars:
+    """:class:`Scalars` from keyword values, each cast to its field's type.
+
+    Parameters
+    ----------
+    **values : float or int
+        Every field of :class:`Scalars` by name, in the units of its comment (s, m, N/m, …).
+        Floats become ``float`` and counts ``int``, so numba sees one signature whatever the
+        caller passed (e.g. an integer speed or a NumPy scalar).
+
+    Returns
+    -------
+    Scalars
+
+    Raises
+    ------
+    TypeError
+        A field is missing or unknown.
+    """
+    kinds = get_type_hints(Scalars)
+    unknown = set(values) - set(kinds)
+    if unknown:
+        raise TypeError(f"unknown scalar field(s): {', '.join(sorted(unknown))}")
+    return Scalars(**{k: kinds[k](v) for k, v in values.items()})
+
 
 # --- contact table fields (ct[side, field, i]) -------------------------------------------
 CT_R, CT_GAMMA, CT_DZ, CT_YC, CT_CA, CT_CB, CT_C11, CT_C22, CT_C23, CT_C33 = range(10)
-N_CT = 10
 
 # --- line table rows -------------------------------------------------------------------------
 LN_KAPPA, LN_ROLL, LN_HEADING, LN_HINT, LN_DKAPPA = range(5)
@@ -35,9 +100,6 @@ LN_KAPPA, LN_ROLL, LN_HEADING, LN_HINT, LN_DKAPPA = range(5)
 # --- per-body line values (body_line[body, field]), scratch filled by vehicle_forces --------
 BL_HEADING, BL_HINT, BL_ROLL, BL_KAPPA, BL_DROLL = range(5)
 N_BL = 5
-
-# --- irregularity rows -----------------------------------------------------------------------
-IRR_ZL, IRR_ZR, IRR_YL, IRR_YR = range(4)
 
 # --- per-wheel auxiliary outputs (aux[wheelset, side, field]) ------------------------------
 AUX_FZ, AUX_FY, AUX_N, AUX_RAIL_Z, AUX_RAIL_Y, AUX_DELTA, AUX_FX = range(7)
@@ -53,10 +115,9 @@ N_TSTATE = 5
 
 
 class SystemArrays(NamedTuple):
-    """Everything the kernel needs, as flat NumPy arrays."""
+    """Everything the kernel needs: named scalars and flat NumPy arrays."""
 
-    fpar: np.ndarray  # float64[N_FPAR]
-    ipar: np.ndarray  # int64[N_IPAR]
+    par: Scalars  # named scalars
     minv: np.ndarray  # float64[n] inverse generalised mass
     kdiag: np.ndarray  # float64[n_veh] modal stiffness of elastic coordinates
     cdiag: np.ndarray  # float64[n_veh] modal damping of elastic coordinates
@@ -81,7 +142,7 @@ class SystemArrays(NamedTuple):
     rail_ktb: np.ndarray  # float64[nm] G·J·κ²
     rail_kap: np.ndarray  # float64[nm] κ_k
     rail_dst: np.ndarray  # float64[nm, nm] sin(kπj/N)
-    ct: np.ndarray  # float64[2, N_CT, n_ct] contact geometry table
+    ct: np.ndarray  # float64[2, 10, n_ct] contact geometry table
     irr: np.ndarray  # float64[4, n_irr] rail irregularities z_L, z_R, y_L, y_R
     line: np.ndarray  # float64[5, n_line] line geometry
     pt_body: np.ndarray  # int64[np] body of each recorded point

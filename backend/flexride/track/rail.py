@@ -76,49 +76,11 @@ class RailModel:
         """Generalised torsional stiffness per mode without fasteners, G·J·κ² (N)."""
         return self.gj * self.wavenumbers() ** 2
 
-    def vertical_frequencies(self) -> np.ndarray:
-        """Natural frequencies of the vertical modes on their fasteners (Hz)."""
-        return np.sqrt(self.vertical_stiffness() / self.mass) / (2.0 * np.pi)
-
-    def lateral_torsional_frequencies(self) -> np.ndarray:
-        """Natural frequencies of the coupled lateral/torsional modes, shape (n_modes, 2) (Hz)."""
-        out = np.empty((self.n_modes, 2))
-        ky, hf = self.ky / self.spacing, self.h_foot
-        for i, (kb, kt) in enumerate(
-            zip(self.lateral_bending_stiffness(), self.torsional_stiffness(), strict=True)
-        ):
-            k = np.array(
-                [[kb + ky, ky * hf], [ky * hf, kt + self.k_roll / self.spacing + ky * hf * hf]]
-            )
-            m = np.diag([self.mass, self.roll_inertia])
-            w2 = np.linalg.eigvals(np.linalg.solve(m, k)).real
-            out[i] = np.sqrt(np.sort(w2)) / (2.0 * np.pi)
-        return out
-
     def sine_matrix(self) -> np.ndarray:
         """S[j, k] = sin(κ_k x_j) at the interior fasteners x_j = j·d, j = 1 … N − 1."""
         j = np.arange(1, self.n_bays)[:, None]
         k = np.arange(1, self.n_bays)[None, :]
         return np.sin(np.pi * j * k / self.n_bays)
-
-    def static_vertical_deflection(self, load: float, x_load: float, x: np.ndarray) -> np.ndarray:
-        """Vertical deflection (m, downward positive) under a static vertical load (N) at
-        ``x_load`` (m, window coordinates), evaluated at ``x`` (m)."""
-        kap = self.wavenumbers()
-        q = (2.0 / self.length) * load * np.sin(kap * x_load) / self.vertical_stiffness()
-        return np.sin(np.outer(np.atleast_1d(x), kap)) @ q
-
-    def vertical_receptance(self, x: float, freq_hz: np.ndarray) -> np.ndarray:
-        """Direct vertical point receptance at ``x`` (m/N, complex) of the modal model."""
-        w = 2.0 * np.pi * np.asarray(freq_hz, dtype=float)
-        kap = self.wavenumbers()
-        s2 = np.sin(kap * x) ** 2 * (2.0 / self.length)
-        den = (
-            self.vertical_stiffness()[None, :]
-            - self.mass * w[:, None] ** 2
-            + 1j * w[:, None] * self.cz / self.spacing
-        )
-        return (s2[None, :] / den).sum(axis=1)
 
 
 def build_rail_model(track: Track, wheel_span: float, margin: float, shift: float) -> RailModel:

@@ -48,13 +48,6 @@ class VehicleModel:
     rolling_circle_half_distance: float = 0.7465
     wheel_radius: float = 0.42
 
-    def body_index(self, name: str) -> int:
-        """Index of the body called ``name``."""
-        for i, b in enumerate(self.bodies):
-            if b.name == name:
-                return i
-        raise KeyError(name)
-
     @property
     def total_mass(self) -> float:
         """Mass of the whole vehicle (kg)."""
