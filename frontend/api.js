@@ -119,6 +119,7 @@ export const api = {
   presets: () => request("/presets"),
   preset: (name) => request(`/presets/${encodeURIComponent(name)}`),
   scenarioSchema: () => request("/schemas/scenario"),
+  paperPoints: () => request("/schemas/points"),
   studyPresets: () => request("/study-presets"),
 
   jobs: (params, o) => request("/jobs", { params, ...o }),

@@ -54,7 +54,7 @@ def test_points_are_written_with_the_file_and_read_back(tmp_path):
         mode="json")
     p = r.write_hdf5(tmp_path / "r.h5")
     with h5py.File(p) as f:
-        assert f.attrs["format_version"] == 2
+        assert f.attrs["format_version"] == 3
         assert f["points/position"].attrs["unit"] == "m"
         assert f["points/position"].shape == (len(r.recorded_points), 3)
     back = Results.read_hdf5(p)
@@ -81,3 +81,47 @@ def test_recorded_points_are_where_the_solver_puts_its_markers():
         off = body.marker_positions[marker]
         assert (p.x, p.y, p.z) == pytest.approx(
             (body.x_ref + off[0], off[1], body.cg_height + off[2]), abs=1e-12)
+
+
+def test_recorded_points_say_what_they_are_and_whether_they_are_on_the_floor(tmp_path):
+    from flexride.model.presets import load_preset
+    from flexride.vehicle.topology import PAPER_POINTS, recorded_points
+
+    sc = load_preset("paper-metro", {"output.floor_grid_spacing_m": 3.0, "output.points": [
+        {"name": "SEAT", "x": -4.2, "y": 0.8, "z": 1.6},
+        {"name": "FLOOR1", "x": 2.0, "y": 0.0, "z": 1.12}]})
+    pts = {p.name if p.body == "carbody" else p.body: p
+           for p in recorded_points(sc.vehicle, sc.output)}
+    for paper in PAPER_POINTS:
+        assert pts[paper.name].description.startswith(f"{paper.name}: ")
+        assert pts[paper.name].on_floor is (paper.level == "floor")
+    assert "PB" in pts["PFB"].description  # the paper's name of the point
+    assert pts["SEAT"].on_floor is False and "user point" in pts["SEAT"].description
+    assert pts["FLOOR1"].on_floor is True  # within 5 cm of the floor height
+    assert pts["F0_0"].on_floor is True and "grid" in pts["F0_0"].description
+    assert pts["frame1"].on_floor is None and pts["wheelset4"].on_floor is None
+
+
+def test_files_of_format_2_get_descriptions_from_their_scenario(tmp_path):
+    from flexride.model.presets import load_preset
+
+    r = _results()
+    r.scenario = load_preset("paper-metro").model_dump(mode="json")
+    p = r.write_hdf5(tmp_path / "old.h5")
+    with h5py.File(p, "r+") as f:  # as written before format 3
+        del f["points/description"], f["points/on_floor"]
+        f.attrs["format_version"] = 2
+    back = Results.read_hdf5(p)
+    pc = next(q for q in back.points if q["name"] == "PC")
+    assert pc["on_floor"] is True and pc["description"].startswith("PC: ")
+
+
+def test_points_know_their_kind():
+    from flexride.model.presets import load_preset
+    from flexride.vehicle.topology import recorded_points
+
+    sc = load_preset("paper-metro", {"output.floor_grid_spacing_m": 3.0, "output.points": [
+        {"name": "SEAT", "x": -4.2, "y": 0.8, "z": 1.6}]})
+    kinds = [p.kind for p in recorded_points(sc.vehicle, sc.output)]
+    n_grid = kinds.count("grid")
+    assert kinds == ["paper"] * 6 + ["user"] + ["grid"] * n_grid + ["body"] * 6 and n_grid == 7

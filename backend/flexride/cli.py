@@ -58,9 +58,11 @@ def _load(scenario_file: Path | None, preset: str | None, overrides: dict[str, A
 def run_summary(results) -> dict[str, Any]:
     """Peaks and rms per output point and direction (car body, frames, wheelsets)."""
     rows = []
-    for name in results.names(quantity="acc"):
+    for ch in results.parsed():
+        if ch.quantity != "acc":
+            continue
+        name, body, point, direction = ch.name, ch.body, ch.point, ch.direction
         x = results.channels[name]
-        body, point, _, direction = name.split(".")
         rows.append(
             {
                 "channel": name,

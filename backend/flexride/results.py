@@ -40,10 +40,40 @@ from flexride.fileio import atomic_path
 from flexride.units import kmh_to_mps
 
 FORMAT_NAME = "flexride-results"
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
 #: Description of the coordinates of ``/points/position``.
 POINT_FRAME = ("nominal vehicle geometry: x from the car-body centre, forward positive; "
                "y left positive; z above top of rail (m)")
+
+
+@dataclass(frozen=True)
+class Channel:
+    """The parts of a channel name ``<body>.<point>.<quantity>.<direction>`` (the one naming
+    rule of recorded channels):
+
+    * ``carbody.PC.acc.z``: acceleration (m/s²) at a recorded point, direction ``y`` or ``z``;
+    * ``wheelset1.left.force.z``: wheel–rail force (N) of a wheel, ``z`` vertical, ``y``
+      lateral, ``n`` normal; ``wheelset1.left.rail_disp.z``: rail displacement under it (m);
+    * ``frame1.cg.disp.x`` / ``rot.x`` / ``spin.y``: rigid coordinates of a body (m, rad).
+    """
+
+    body: str
+    point: str
+    quantity: str
+    direction: str
+
+    @property
+    def name(self) -> str:
+        """The channel name."""
+        return f"{self.body}.{self.point}.{self.quantity}.{self.direction}"
+
+    @classmethod
+    def parse(cls, name: str) -> Channel | None:
+        """The parts of ``name``, or None when it does not follow the rule."""
+        parts = str(name).split(".")
+        if len(parts) != 4 or not all(parts):
+            return None
+        return cls(*parts)
 
 
 @dataclass
@@ -65,8 +95,9 @@ class Results:
     meta : dict
         Run facts: ``speed_mps``, ``dt`` (s), ``output_rate`` (Hz), wall times, etc.
     points : list of dict, optional
-        Recorded points ``{"body", "name", "x", "y", "z"}`` (m); derived from the scenario when
-        omitted (:attr:`recorded_points`).
+        Recorded points (:meth:`flexride.vehicle.topology.RecordedPoint.to_dict`: ``body``,
+        ``name``, ``description``, ``x``, ``y``, ``z`` in m, ``on_floor``), as the solver made
+        them; derived from the scenario when omitted (:attr:`recorded_points`).
     """
 
     time: np.ndarray
@@ -79,7 +110,7 @@ class Results:
 
     @property
     def recorded_points(self) -> list[dict[str, Any]]:
-        """Recorded points ``{"body", "name", "x", "y", "z"}`` (m, see the module docstring):
+        """Recorded points (dicts of :class:`~flexride.vehicle.topology.RecordedPoint`):
         :attr:`points` when given, else derived from :attr:`scenario` (empty when the scenario
         does not describe a vehicle)."""
         if self.points is not None:
@@ -106,15 +137,13 @@ class Results:
 
     def names(self, quantity: str | None = None, body: str | None = None) -> list[str]:
         """Channel names, optionally filtered by quantity (``acc``, ``force``...) and body."""
-        out = []
-        for name in self.channels:
-            parts = name.split(".")
-            if quantity is not None and (len(parts) < 3 or parts[2] != quantity):
-                continue
-            if body is not None and parts[0] != body:
-                continue
-            out.append(name)
-        return out
+        return [c.name for c in self.parsed()
+                if (quantity is None or c.quantity == quantity)
+                and (body is None or c.body == body)]
+
+    def parsed(self) -> list[Channel]:
+        """Every channel that follows the naming rule, parsed (:class:`Channel`)."""
+        return [c for c in map(Channel.parse, self.channels) if c is not None]
 
     def running_speed(self) -> float | None:
         """Running speed (m/s): from the run facts, else the scenario's ``speed_kmh``, else the
@@ -210,8 +239,9 @@ def points_from_scenario(scenario: dict[str, Any]) -> list[dict[str, Any]]:
     Returns
     -------
     list of dict
-        ``{"body", "name", "x", "y", "z"}`` in channel order, positions in m (module
-        docstring); empty when ``scenario`` is not a valid scenario.
+        :meth:`~flexride.vehicle.topology.RecordedPoint.to_dict` in channel order; empty when
+        ``scenario`` is not a valid scenario. Used only for results without points (files
+        written before format 3, results made by hand).
     """
     from pydantic import ValidationError
 
@@ -223,7 +253,7 @@ def points_from_scenario(scenario: dict[str, Any]) -> list[dict[str, Any]]:
         pts = recorded_points(sc.vehicle, sc.output)
     except (ValidationError, ValueError, TypeError):
         return []
-    return [{"body": p.body, "name": p.name, "x": p.x, "y": p.y, "z": p.z} for p in pts]
+    return [p.to_dict() for p in pts]
 
 
 def _write_points(f: h5py.File, points: list[dict[str, Any]]) -> None:
@@ -231,6 +261,12 @@ def _write_points(f: h5py.File, points: list[dict[str, Any]]) -> None:
     text = h5py.string_dtype("utf-8")
     grp.create_dataset("body", data=[p["body"] for p in points], dtype=text)
     grp.create_dataset("name", data=[p["name"] for p in points], dtype=text)
+    grp.create_dataset("description", data=[p.get("description", "") for p in points],
+                       dtype=text)
+    grp.create_dataset("kind", data=[p.get("kind", "") for p in points], dtype=text)
+    floor = [-1 if p.get("on_floor") is None else int(bool(p["on_floor"])) for p in points]
+    grp.create_dataset("on_floor", data=np.array(floor, dtype=np.int8)).attrs["meaning"] = (
+        "1 on the car-body floor, 0 not, -1 off the car body")
     pos = np.array([[p["x"], p["y"], p["z"]] for p in points], dtype=np.float64).reshape(-1, 3)
     ds = grp.create_dataset("position", data=pos)
     ds.attrs["unit"] = "m"
@@ -238,8 +274,9 @@ def _write_points(f: h5py.File, points: list[dict[str, Any]]) -> None:
 
 
 def read_points(f: h5py.File) -> list[dict[str, Any]]:
-    """Recorded points of an open results file: ``/points`` when present (format version 2),
-    else derived from its scenario (:func:`points_from_scenario`).
+    """Recorded points of an open results file: ``/points`` when present (format version 2 has
+    positions, 3 also descriptions and ``on_floor``), else derived from its scenario
+    (:func:`points_from_scenario`).
 
     Parameters
     ----------
@@ -249,17 +286,25 @@ def read_points(f: h5py.File) -> list[dict[str, Any]]:
     Returns
     -------
     list of dict
-        ``{"body", "name", "x", "y", "z"}``, positions in m (module docstring).
+        :meth:`~flexride.vehicle.topology.RecordedPoint.to_dict` of each point.
     """
     grp = f.get("points")
-    if grp is None:
+    if grp is None or "description" not in grp:
         try:
             scenario = json.loads(f.attrs.get("scenario_json", "{}"))
         except (TypeError, ValueError):
-            return []
-        return points_from_scenario(scenario) if isinstance(scenario, dict) else []
+            scenario = None
+        derived = points_from_scenario(scenario) if isinstance(scenario, dict) else []
+        if grp is None or derived:
+            return derived
     bodies = grp["body"].asstr()[()]
     names = grp["name"].asstr()[()]
     pos = np.asarray(grp["position"][()], dtype=np.float64).reshape(-1, 3)
-    return [{"body": str(b), "name": str(n), "x": float(p[0]), "y": float(p[1]),
-             "z": float(p[2])} for b, n, p in zip(bodies, names, pos, strict=True)]
+    n = len(names)
+    texts = grp["description"].asstr()[()] if "description" in grp else [""] * n
+    kinds = grp["kind"].asstr()[()] if "kind" in grp else [""] * n
+    floor = grp["on_floor"][()] if "on_floor" in grp else np.full(n, -1)
+    return [{"body": str(b), "name": str(nm), "description": str(t), "x": float(p[0]),
+             "y": float(p[1]), "z": float(p[2]), "on_floor": None if fl < 0 else bool(fl),
+             "kind": str(k)}
+            for b, nm, t, p, fl, k in zip(bodies, names, texts, pos, floor, kinds, strict=True)]

@@ -57,10 +57,18 @@ export function directionOptions(dirs) {
   return dirs.map((d) => [d, `${DIRECTION_NAMES[d] || d} (${d})`]);
 }
 
-/** Car-body acceleration points present in a channel list, in the paper's order first. */
-export function accPoints(channels) {
-  const std = ["PR", "PFB", "PC", "PRB", "PLA", "PRA"];
-  const pts = [...new Set(channels.filter((c) => c.body === "carbody" && c.quantity === "acc").map((c) => c.point))];
-  const grid = (p) => /^F\d+_\d+$/.test(p);
-  return [...std.filter((p) => pts.includes(p)), ...pts.filter((p) => !std.includes(p) && !grid(p)).sort(), ...pts.filter(grid).sort((a, b) => a.localeCompare(b, "en", { numeric: true }))];
+/** Car-body points with acceleration channels, in the run's own order (the paper's points,
+ * user points, floor grid: GET /jobs/{id}/channels `points`), each with its kind, description,
+ * position and floor flag. */
+export function accPoints(channels, points) {
+  const withAcc = new Set(channels.filter((c) => c.body === "carbody" && c.quantity === "acc").map((c) => c.point));
+  return (points || []).filter((p) => p.body === "carbody" && withAcc.has(p.name));
+}
+
+/** The point to headline: the paper's floor point nearest the car-body centre (PC), else the
+ * first point. */
+export function headlinePoint(points) {
+  const paperFloor = points.filter((p) => p.kind === "paper" && p.on_floor);
+  const pool = paperFloor.length ? paperFloor : points;
+  return pool.reduce((best, p) => (best === null || Math.abs(p.x) < Math.abs(best.x) ? p : best), null);
 }

@@ -21,12 +21,11 @@ const KIND_LABEL = { carbody: "car body", frame: "bogie frame" };
 const BODY_FIELD = { carbody: "carbody", frame: "frames" }; // scenario.bodies.<field>
 const MODEL_PARAMS = ["element_size_m", "cutoff_hz", "reduction"];
 const MAX_MODES = 12;
-const PAPER_FLOOR_POINTS = ["PFB", "PC", "PRB", "PLA", "PRA"];
 
 /** The floor-grid points F<i>_<j> of a channel list's `points` as a grid: sorted xs and ys and
  * the point name at (x, y). */
 export function floorGridOf(points) {
-  const floor = (points || []).filter((p) => p.body === "carbody" && /^F\d+_\d+$/.test(p.name));
+  const floor = (points || []).filter((p) => p.body === "carbody" && p.kind === "grid");
   const xs = [...new Set(floor.map((p) => p.x))].sort((a, b) => a - b);
   const ys = [...new Set(floor.map((p) => p.y))].sort((a, b) => a - b);
   const at = new Map(floor.map((p) => [`${p.x},${p.y}`, p.name]));
@@ -389,7 +388,7 @@ export default async function render(main, ctx) {
       const [sum, chans] = await Promise.all([cached(`summary:${jobId}`, () => api.summary(jobId)), cached(`channels:${jobId}`, () => api.channels(jobId))]);
       const pts = sum.summary?.points || {};
       const grid = floorGridOf(chans.points);
-      if (!grid.n || !Object.keys(pts).some((p) => /^F\d+_\d+$/.test(p))) {
+      if (!grid.n || !(chans.points || []).some((p) => p.kind === "grid" && pts[p.name])) {
         mapCard.empty("This run did not record the floor grid.");
         setChildren(mapMsg, notice("info", null, "Set Outputs → floor grid spacing (output.floor_grid_spacing_m, e.g. 1.0 m) and run again: ", h("a", { href: `#/new?from=${jobId}` }, "new job from this one"), "."));
         return;
@@ -413,7 +412,7 @@ export default async function render(main, ctx) {
       const label = MEASURES.find(([k]) => k === measure)[1];
       lastMap = { rows, label };
       // the paper's floor points where the server says they are
-      const named = (chans.points || []).filter((p) => p.body === "carbody" && PAPER_FLOOR_POINTS.includes(p.name) && pts[p.name]);
+      const named = (chans.points || []).filter((p) => p.body === "carbody" && p.kind === "paper" && p.on_floor && pts[p.name]);
       const short = MEASURES.find(([k]) => k === measure)[2];
       await mapCard.draw([
         { type: "heatmap", x: grid.xs, y: grid.ys, z, colorscale: "YlOrRd", reversescale: true, zsmooth: grid.ys.length > 1 ? "best" : false,

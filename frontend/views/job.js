@@ -9,12 +9,11 @@ import {
 } from "../components/dom.js";
 import { plotCard, baseLayout, COLORS } from "../components/plot.js";
 import { seriesPlot, spectrumPlot } from "../components/series.js";
-import { channelMultiSelect, channelSelect, simpleSelect, directionOptions, accPoints } from "../components/channels.js";
+import { channelMultiSelect, channelSelect, simpleSelect, directionOptions, accPoints, headlinePoint } from "../components/channels.js";
 import { confirmButton } from "./jobs.js";
 import { go, replaceQuery } from "../components/nav.js";
 
 const ACTIVE = new Set(["queued", "running"]);
-const HEADLINE = ["PC", "PFB", "PRB", "PR"];
 
 // -- summary helpers (shape of flexride.analysis.Summary.to_dict) ------------------------------
 
@@ -156,8 +155,9 @@ export default async function render(main, ctx) {
     const s = summary?.summary || null;
     const channels = chans.channels;
     const has = (n) => channels.some((c) => c.name === n);
-    const points = accPoints(channels);
-    const floorGrid = points.some((p) => /^F\d+_\d+$/.test(p));
+    const pointInfo = accPoints(channels, chans.points);
+    const points = pointInfo.map((p) => p.name);
+    const floorGrid = pointInfo.some((p) => p.kind === "grid");
     const t = tabs([
       { id: "summary", label: "Summary" },
       { id: "time", label: "Time histories" },
@@ -259,7 +259,7 @@ export default async function render(main, ctx) {
     }
 
     function sperlingPanel(panel) {
-      let point = points.includes("PC") ? "PC" : points[0];
+      let point = headlinePoint(pointInfo)?.name || points[0];
       const card = plotCard({ title: "Sperling index by third-octave band", id: "plot-sperling", description: "Contribution of each third-octave band to the Sperling index",
         csv: () => last && ({ header: ["channel", "band low (Hz)", "band high (Hz)", "W"], rows: last.channels.flatMap((c) => c.bands.map((b) => [c.name, b.f_low_hz, b.f_high_hz, b.w])) }) });
       let last = null;
@@ -291,8 +291,13 @@ export default async function render(main, ctx) {
     }
 
     function correlationPanel(panel, sum) {
-      let ref = points.includes("PRB") ? "PRB" : points[0];
-      let other = points.includes("PR") ? "PR" : points.find((p) => p !== ref);
+      // the paper's pair (Fig. 20): the floor above the rear bogie against the roof above the
+      // front one, found by where the points sit rather than by name
+      const paper = pointInfo.filter((p) => p.kind === "paper");
+      const rearFloor = paper.filter((p) => p.on_floor && p.x < 0).sort((a, b) => Math.abs(a.y) - Math.abs(b.y))[0];
+      const roof = paper.find((p) => p.on_floor === false);
+      let ref = rearFloor?.name || points[0];
+      let other = roof?.name || points.find((p) => p !== ref);
       let dir = "z";
       let maxLag = 3;
       const card = plotCard({ title: "Cross-correlation", id: "plot-correlation", description: "Normalised cross-correlation against the lag, maximum marked",
@@ -325,7 +330,7 @@ export default async function render(main, ctx) {
           card.error(err);
         }
       };
-      const pts = points.filter((p) => !/^F\d+_\d+$/.test(p)).map((p) => [p, p]);
+      const pts = pointInfo.filter((p) => p.kind !== "grid").map((p) => [p.name, p.name]);
       const lagIn = h("input", { id: "corr-lag", type: "number", min: "0.1", max: "30", step: "0.1", value: "3", style: { width: "6em" }, onchange: () => { const v = Number(lagIn.value); if (v > 0) { maxLag = v; draw(); } } });
       card.setControls(h("div", { class: "controls" },
         simpleSelect("corr-ref", "Reference point (a)", pts, ref, (v) => { ref = v; draw(); }),
@@ -386,7 +391,7 @@ export default async function render(main, ctx) {
       return;
     }
     const pts = s.points || {};
-    const head = HEADLINE.find((p) => pts[p]) || Object.keys(pts)[0];
+    const head = headlinePoint(accPoints(chans.channels, chans.points).filter((p) => pts[p.name]))?.name || Object.keys(pts)[0];
     const d = (p, dir) => pts[p]?.directions?.[dir];
     const cards = [];
     if (head) {

@@ -2,14 +2,16 @@
 // acceleration against speed with the fitted line and R² (Fig. 21), flexible against rigid with
 // differences in percent (Table 2) and every job's indices; clicking a point opens its job.
 
-import { api } from "../api.js";
+import { api, cached } from "../api.js";
 import { h, setChildren, badge, progressBar, fmt, fixed, pct, errorBox, notice, loading, tabs, dataTable, when, DIRECTION_NAMES } from "../components/dom.js";
 import { plotCard, baseLayout, COLORS, DASHES, loadPlotly } from "../components/plot.js";
 import { simpleSelect, directionOptions } from "../components/channels.js";
 import { confirmButton } from "./jobs.js";
 import { go, replaceQuery } from "../components/nav.js";
 
-const STD_POINTS = ["PR", "PFB", "PC", "PRB", "PLA", "PRA"];
+/** The paper's points in their order (GET /schemas/points), loaded with the study. */
+let paperPoints = [];
+let paperOrder = [];
 const SYMBOLS = ["circle", "square", "diamond", "triangle-up", "cross", "x", "star", "triangle-down"];
 const ACTIVE = new Set(["queued", "running"]);
 const SIDE_LEGEND = { orientation: "v", x: 1.02, xanchor: "left", y: 1, yanchor: "top", font: { size: 11 } };
@@ -18,7 +20,7 @@ export const groupLabel = (g) => Object.entries(g || {}).map(([k, v]) => (k === 
 
 function pointsOf(rows) {
   const pts = [...new Set(rows.map((r) => r.point))];
-  return [...STD_POINTS.filter((p) => pts.includes(p)), ...pts.filter((p) => !STD_POINTS.includes(p)).sort()];
+  return [...paperOrder.filter((p) => pts.includes(p)), ...pts.filter((p) => !paperOrder.includes(p)).sort()];
 }
 
 export default async function render(main, ctx) {
@@ -35,6 +37,10 @@ export default async function render(main, ctx) {
   async function poll() {
     let st;
     try {
+      if (!paperOrder.length) {
+        paperPoints = await cached("paper-points", api.paperPoints);
+        paperOrder = paperPoints.map((p) => p.name);
+      }
       st = await api.study(id, { signal: ctx.signal });
     } catch (err) {
       if (ctx.signal.aborted) return;
@@ -91,7 +97,7 @@ export default async function render(main, ctx) {
 
   function buildView(st0) {
     const notesEl = h("div");
-    const state = { dir: ctx.query.dir || "z", group: ctx.query.group ?? "", points: null, peakPoint: "" , frQ: "sperling", tablePoint: "PC" };
+    const state = { dir: ctx.query.dir || "z", group: ctx.query.group ?? "", points: null, peakPoint: "" , frQ: "sperling", tablePoint: "" };
     let st = st0;
     const sync = () => replaceQuery({ tab: state.tab, dir: state.dir, group: state.group });
 
@@ -124,7 +130,8 @@ export default async function render(main, ctx) {
     function controls(el, rows, which) {
       const groups = groupsOf(rows);
       const pts = pointsOf(rows);
-      if (!state.points) state.points = pts.includes("PC") && groups.length > 1 ? ["PC"] : pts.slice();
+      const centre = paperPoints.find((p) => p.along === "centre" && p.level === "floor")?.name;
+      if (!state.points) state.points = pts.includes(centre) && groups.length > 1 ? [centre] : pts.slice();
       if (state.group && !groups.includes(state.group)) state.group = "";
       const boxes = pts.map((p) => h("label", { class: "check" }, h("input", { type: "checkbox", value: p, checked: state.points.includes(p), onchange: (e) => {
         state.points = e.target.checked ? [...state.points, p] : state.points.filter((x) => x !== p);
@@ -250,7 +257,7 @@ export default async function render(main, ctx) {
       const sp = st.tables.sperling_vs_speed || [];
       const pk = st.tables.peak_vs_speed || [];
       const allPts = pointsOf([...sp, ...pk]);
-      if (!allPts.includes(state.tablePoint)) state.tablePoint = allPts[0] || "PC";
+      if (!allPts.includes(state.tablePoint)) state.tablePoint = allPts[0] || "";
       const val = (rows, jid, p, d) => {
         const r = rows.find((x) => x.point === p && x.direction === d && x.job_ids.includes(jid));
         return r ? r.value[r.job_ids.indexOf(jid)] : null;

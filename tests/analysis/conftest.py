@@ -63,7 +63,16 @@ def make_results(
     elif meta_loads == "flat":
         meta["static_wheel_loads"] = [x for pair in loads for x in pair]
     return Results(time=t, distance=v * t, channels=channels, units=units,
-                   scenario={"name": "synthetic", "speed_kmh": speed_kmh}, meta=meta)
+                   scenario={"name": "synthetic", "speed_kmh": speed_kmh}, meta=meta,
+                   points=paper_vehicle_points())
+
+
+def paper_vehicle_points() -> list[dict]:
+    """The recorded points of the paper's vehicle, as the solver writes them."""
+    from flexride.model.presets import load_preset
+    from flexride.vehicle.topology import recorded_points
+
+    return [p.to_dict() for p in recorded_points(load_preset("paper-metro").vehicle)]
 
 
 @pytest.fixture(scope="module")

@@ -45,3 +45,13 @@ def test_static_files_and_frontend_hook(make_client, tmp_path):
     assert "dashboard" in c2.get("/").text
     assert c2.get(f"{API}/presets").status_code == 200  # the API still wins
     assert c2.get("/static/plotly.min.js").status_code == 200
+
+
+def test_the_paper_points_and_where_they_sit(sqlite_client):
+    pts = sqlite_client.get("/api/v1/schemas/points").json()
+    assert [p["name"] for p in pts] == ["PR", "PFB", "PC", "PRB", "PLA", "PRA"]
+    by = {p["name"]: p for p in pts}
+    assert (by["PR"]["along"], by["PR"]["level"]) == ("front", "roof")
+    assert (by["PLA"]["along"], by["PLA"]["across"], by["PLA"]["level"]) == (
+        "rear", "left", "floor")
+    assert all(p["description"] for p in pts)

@@ -192,6 +192,12 @@ def test_channels_give_the_positions_of_the_paper_points(sqlite_client, old_file
     for name, xyz in PAPER_POINTS.items():
         assert where[("carbody", name)] == pytest.approx(xyz, abs=1e-12), name
     assert where[("carbody", "SEAT")] == pytest.approx((3.0, -0.7, 1.5))
+    about = {p["name"]: p for p in info["points"] if p["body"] == "carbody"}
+    assert (about["PR"]["kind"], about["PR"]["on_floor"]) == ("paper", False)
+    assert (about["PC"]["kind"], about["PC"]["on_floor"]) == ("paper", True)
+    assert about["PFB"]["description"].startswith("PFB: floor above the front bogie")
+    assert (about["SEAT"]["kind"], about["SEAT"]["on_floor"]) == ("user", False)
+    assert about["F0_0"]["kind"] == "grid"
     # the channels of a point carry its position; others (wheel forces) have none
     chans = {c["name"]: c for c in info["channels"]}
     assert chans[PR_Z]["position"] == pytest.approx([6.3, 0.0, 3.80])

@@ -40,6 +40,7 @@ from scipy import signal
 
 from flexride.analysis._common import check_nyquist, check_rate, check_signal
 from flexride.errors import AnalysisError
+from flexride.results import Channel
 
 if TYPE_CHECKING:
     from flexride.results import Results
@@ -384,7 +385,7 @@ class RunningSafety:
         return max(cands, key=lambda i: i.utilisation) if cands else None
 
 
-_WS = re.compile(r"^wheelset(\d+)\.(left|right)\.force\.([yz])$")
+_WHEELSET = re.compile(r"^wheelset(\d+)$")
 
 
 def _static_loads(meta: dict[str, Any], n_ws: list[int], channels: dict[str, np.ndarray]
@@ -431,18 +432,20 @@ def running_safety(
     side, N), else the mean of force.z over the run.
     """
     found: dict[int, set[str]] = {}
-    for name in results.channels:
-        m = _WS.match(name)
-        if m:
-            found.setdefault(int(m.group(1)), set()).add(f"{m.group(2)}.{m.group(3)}")
+    for ch in results.parsed():
+        m = _WHEELSET.match(ch.body)
+        if m and ch.quantity == "force" and ch.point in ("left", "right") and (
+                ch.direction in ("y", "z")):
+            found.setdefault(int(m.group(1)), set()).add(f"{ch.point}.{ch.direction}")
     complete = sorted(ws for ws, parts in found.items()
                       if {"left.y", "left.z", "right.y", "right.z"} <= parts)
     if not complete:
         return None
     fs = check_rate(results.sample_rate)
     speed = _speed_of(results)
-    parts = ("left.force.y", "left.force.z", "right.force.y", "right.force.z")
-    names = [f"wheelset{ws}.{part}" for ws in complete for part in parts]
+    parts = (("left", "y"), ("left", "z"), ("right", "y"), ("right", "z"))
+    names = [Channel(f"wheelset{ws}", side, "force", d).name
+             for ws in complete for side, d in parts]
     raw = check_signal(np.vstack([np.asarray(results.channels[c], dtype=np.float64)
                                   for c in names]), fs, name="wheel-rail forces", min_samples=8,
                        method="running safety")
@@ -454,7 +457,7 @@ def running_safety(
     indices: list[SafetyIndex] = []
     notes: list[str] = []
     for k, ws in enumerate(complete):
-        rows = {part: 4 * k + j for j, part in enumerate(parts)}
+        rows = {f"{side}.force.{d}": 4 * k + j for j, (side, d) in enumerate(parts)}
         for side in ("left", "right"):
             loc = f"wheelset{ws}.{side}"
             iy, iz = rows[f"{side}.force.y"], rows[f"{side}.force.z"]

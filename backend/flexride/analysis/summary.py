@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import json
 import math
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -58,6 +57,7 @@ from flexride.analysis.timefreq import Spectrogram, spectrogram
 from flexride.analysis.weighting import WeightingMethod, apply_weighting
 from flexride.errors import AnalysisError, FlexrideError
 from flexride.units import mps_to_kmh
+from flexride.vehicle.topology import PAPER_POINT_NAMES
 
 if TYPE_CHECKING:
     from rich.console import JustifyMethod
@@ -76,10 +76,6 @@ __all__ = [
     "summary_table",
 ]
 
-#: The paper's points, in the order the tables list them.
-STANDARD_POINTS = ("PR", "PFB", "PC", "PRB", "PLA", "PRA")
-_FLOOR_POINTS = {"PFB", "PC", "PRB", "PLA", "PRA"}
-_ACC = re.compile(r"^(?P<body>[^.]+)\.(?P<point>[^.]+)\.acc\.(?P<dir>[xyz])$")
 _ISO_WEIGHTINGS = {"z": ("Wb", "Wk"), "y": ("Wd",), "x": ("Wd",)}
 _PSD_SEGMENT_S = 8.0
 _PEAK_BAND = (0.3, 100.0)
@@ -256,21 +252,14 @@ class Summary:
 
 
 def _point_order(names: Sequence[str]) -> list[str]:
-    std = [p for p in STANDARD_POINTS if p in names]
-    return std + sorted(p for p in names if p not in STANDARD_POINTS)
+    std = [p for p in PAPER_POINT_NAMES if p in names]
+    return std + sorted(p for p in names if p not in PAPER_POINT_NAMES)
 
 
-def _on_floor(point: str, scenario: dict[str, Any]) -> bool | None:
-    if point in _FLOOR_POINTS:
-        return True
-    if point == "PR":
-        return False
-    out = scenario.get("output", {}) if isinstance(scenario, dict) else {}
-    floor = out.get("floor_height_m", 1.10) if isinstance(out, dict) else 1.10
-    for pt in (out.get("points", []) if isinstance(out, dict) else []):
-        if isinstance(pt, dict) and pt.get("name") == point and "z" in pt:
-            return abs(float(pt["z"]) - float(floor)) < 0.2
-    return None
+def _on_floor(results: Results) -> dict[str, bool | None]:
+    """Whether each recorded car-body point is on the floor (from the run's recorded points)."""
+    return {p["name"]: p.get("on_floor") for p in results.recorded_points
+            if p.get("body") == "carbody"}
 
 
 def _err(exc: Exception) -> str:
@@ -361,21 +350,20 @@ def analyze(
 
     groups: dict[str, list[tuple[str, str]]] = {}
     other_acc: list[str] = []
-    for name in results.channels:
-        m = _ACC.match(name)
-        if not m:
+    for ch in results.parsed():
+        if ch.quantity != "acc" or ch.direction not in ("x", "y", "z"):
             continue
-        if m.group("body") == "carbody":
-            groups.setdefault(m.group("dir"), []).append((m.group("point"), name))
+        if ch.body == "carbody":
+            groups.setdefault(ch.direction, []).append((ch.point, ch.name))
         else:
-            other_acc.append(name)
+            other_acc.append(ch.name)
     if not groups:
         raise AnalysisError(
             "the run has no car-body acceleration channel (carbody.<POINT>.acc.<x|y|z>)")
 
     point_names = _point_order(sorted({p for g in groups.values() for p, _ in g}))
-    points = {p: PointSummary(name=p, on_floor=_on_floor(p, results.scenario))
-              for p in point_names}
+    floor = _on_floor(results)
+    points = {p: PointSummary(name=p, on_floor=floor.get(p)) for p in point_names}
     dynamic: dict[str, dict[str, np.ndarray]] = {"x": {}, "y": {}, "z": {}}
     weighted: dict[str, dict[str, dict[str, np.ndarray]]] = {}
     raw_sig: dict[str, dict[str, np.ndarray]] = {"x": {}, "y": {}, "z": {}}

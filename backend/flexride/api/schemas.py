@@ -148,13 +148,32 @@ class ChannelInfo(BaseModel):
 
 
 class PointInfo(BaseModel):
-    """A recorded point: its body, name and position (m, see ``point_frame``)."""
+    """A recorded point: its body, name, description, position (m, see ``point_frame``) and
+    whether it is on the car-body floor."""
 
     body: str = Field(description="Body the point is on: carbody, frame1, wheelset3...")
     name: str = Field(description="Point name: PR, PC, F3_2 (floor grid), centre...")
+    description: str = Field("", description="What the point is, for people")
     x: float = Field(description="Longitudinal position from the car-body centre, forward (m)")
     y: float = Field(description="Lateral position, left positive (m)")
     z: float = Field(description="Height above top of rail (m)")
+    on_floor: bool | None = Field(None, description="On the car-body floor (ISO 2631 floor "
+                                  "measurement); null off the car body")
+    kind: str = Field("", description="paper (one of the paper's points), user, grid (floor "
+                      "grid of comfort maps) or body (centre of a frame or wheelset); empty in "
+                      "old result files")
+
+
+class PaperPointOut(BaseModel):
+    """One of the paper's car-body measurement points and where it sits."""
+
+    name: str
+    description: str
+    along: Literal["front", "centre", "rear"] = Field(
+        description="Above the front bogie centre, at the body centre or above the rear bogie")
+    across: Literal["centre", "left", "right"] = Field(
+        description="On the centre line or above the left/right air spring")
+    level: Literal["floor", "roof"]
 
 
 class ChannelList(BaseModel):

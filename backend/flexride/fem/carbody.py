@@ -33,17 +33,6 @@ from flexride.fem.rigid import mass_properties
 REGIONS = ("floor", "wall_left", "wall_right", "roof", "end_front", "end_rear", "underframe")
 _FLOOR, _WALL_L, _WALL_R, _ROOF, _END_F, _END_R, _UNDER = range(7)
 
-#: Paper's measurement points (DESIGN §5): name -> (x, y, where).
-PAPER_POINTS = {
-    "PR": ("front", 0.0, "roof"),
-    "PFB": ("front", 0.0, "floor"),
-    "PC": ("centre", 0.0, "floor"),
-    "PRB": ("rear", 0.0, "floor"),
-    "PLA": ("rear", "left", "floor"),
-    "PRA": ("rear", "right", "floor"),
-}
-
-
 @dataclass(frozen=True)
 class CarBodyParams:
     """Parameters of the car-body model (lengths m, thicknesses m, fractions -).

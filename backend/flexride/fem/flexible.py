@@ -37,6 +37,7 @@ from flexride.fem.reduction import (
 )
 from flexride.fem.report import ReductionReport, mac_matrix, mass_summary, match_modes
 from flexride.fem.rigid import MassProperties, rigid_body_vectors
+from flexride.vehicle.topology import PAPER_POINT_NAMES
 
 Kind = Literal["carbody", "frame"]
 Method = Literal["guyan", "craig-bampton", "modal"]
@@ -47,9 +48,9 @@ ATTACHMENTS = {
     "carbody": ("as1L", "as1R", "as2L", "as2R", "bogie1", "bogie2"),
     "frame": ("ab1L", "ab1R", "ab2L", "ab2R", "asL", "asR", "centre"),
 }
-#: Output points (extra Guyan masters) of each model.
+#: Output points (extra Guyan masters) of each model: the paper's points on the car body.
 OUTPUTS = {
-    "carbody": ("PR", "PFB", "PC", "PRB", "PLA", "PRA"),
+    "carbody": PAPER_POINT_NAMES,
     "frame": ("centre",),
 }
 #: Fixed-interface modes of a Craig–Bampton reduction are kept up to this multiple of the

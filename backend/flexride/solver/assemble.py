@@ -14,6 +14,7 @@ from flexride.contact.geometry import ContactTable, conical_table
 from flexride.contact.hertz import hertz_constant
 from flexride.errors import ScenarioError
 from flexride.model.scenario import Scenario
+from flexride.results import Channel
 from flexride.solver import system as S
 from flexride.track.excitation import build_profile
 from flexride.track.line_geometry import GRAVITY, LineTable, build_line_table
@@ -128,35 +129,35 @@ def channel_layout(veh: VehicleModel) -> tuple[list[str], list[str], list[tuple[
     for p, (pname, bi, _m) in enumerate(veh.points):
         bname = bodies[bi].name
         for kind, d in ((S.CH_POINT_ACC_Y, "y"), (S.CH_POINT_ACC_Z, "z")):
-            names.append(f"{bname}.{pname}.acc.{d}")
+            names.append(Channel(bname, pname, "acc", d).name)
             units.append("m/s^2")
             kinds.append((kind, p, 0))
     for w, bi in enumerate(veh.wheelsets):
         wname = bodies[bi].name
         for sd, side in enumerate(SIDES):
-            for kind, q, u in (
-                (S.CH_WHEEL_FZ, "force.z", "N"),
-                (S.CH_WHEEL_FY, "force.y", "N"),
-                (S.CH_WHEEL_N, "force.n", "N"),
-                (S.CH_RAIL_Z, "rail_disp.z", "m"),
-                (S.CH_RAIL_Y, "rail_disp.y", "m"),
+            for kind, quantity, d, u in (
+                (S.CH_WHEEL_FZ, "force", "z", "N"),
+                (S.CH_WHEEL_FY, "force", "y", "N"),
+                (S.CH_WHEEL_N, "force", "n", "N"),
+                (S.CH_RAIL_Z, "rail_disp", "z", "m"),
+                (S.CH_RAIL_Y, "rail_disp", "y", "m"),
             ):
-                names.append(f"{wname}.{side}.{q}")
+                names.append(Channel(wname, side, quantity, d).name)
                 units.append(u)
                 kinds.append((kind, w, sd))
     coord_channels = [
-        ("disp.x", 0, "m"),
-        ("disp.y", 1, "m"),
-        ("disp.z", 2, "m"),
-        ("rot.x", 3, "rad"),
-        ("rot.y", 4, "rad"),
-        ("rot.z", 5, "rad"),
+        ("disp", "x", 0, "m"),
+        ("disp", "y", 1, "m"),
+        ("disp", "z", 2, "m"),
+        ("rot", "x", 3, "rad"),
+        ("rot", "y", 4, "rad"),
+        ("rot", "z", 5, "rad"),
     ]
     for bi, body in enumerate(bodies):
-        for q, j, u in coord_channels:
+        for quantity, d, j, u in coord_channels:
             if body.is_wheelset and j == 4:
-                q, u = "spin.y", "rad"
-            names.append(f"{body.name}.cg.{q}")
+                quantity, u = "spin", "rad"
+            names.append(Channel(body.name, "cg", quantity, d).name)
             units.append(u)
             kinds.append((S.CH_COORD, int(off[bi] + j), 0))
     return names, units, kinds

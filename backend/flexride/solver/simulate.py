@@ -269,4 +269,5 @@ def integrate(
         units=units,
         scenario=scenario.model_dump(mode="json"),
         meta=meta,
+        points=[p.to_dict() for p in asm.vehicle.recorded],
     )

@@ -10,6 +10,7 @@ so roll, pitch and yaw coupling follows from where the elements sit.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -17,9 +18,48 @@ from flexride.bodies import ModalBody, rigid_body
 from flexride.model.solver import Output, OutputPoint
 from flexride.model.vehicle import Vehicle
 
-#: The paper's car-body measurement points (DESIGN §5) as (name, x, y, where) with x, y in m from
-#: the body centre and where "floor" or "roof"; x of the bogie points is ± half the bogie spacing.
-PAPER_POINTS = ("PR", "PFB", "PC", "PRB", "PLA", "PRA")
+
+@dataclass(frozen=True)
+class PaperPoint:
+    """One of the paper's car-body measurement points (DESIGN §5) and where it sits.
+
+    Attributes
+    ----------
+    name : str
+        The point's name (channels ``carbody.<name>.acc.<y|z>``).
+    description : str
+        One line for people.
+    along : {"front", "centre", "rear"}
+        Above the front bogie centre, at the body centre or above the rear bogie centre.
+    across : {"centre", "left", "right"}
+        On the centre line or above the left/right air spring.
+    level : {"floor", "roof"}
+        On the floor (``output.floor_height_m``) or the roof (``output.roof_height_m``).
+    """
+
+    name: str
+    description: str
+    along: str
+    across: str
+    level: str
+
+
+PAPER_POINTS: tuple[PaperPoint, ...] = (
+    PaperPoint("PR", "roof above the front bogie centre", "front", "centre", "roof"),
+    PaperPoint("PFB", "floor above the front bogie centre (the paper's PB)", "front", "centre",
+               "floor"),
+    PaperPoint("PC", "floor at the car-body centre", "centre", "centre", "floor"),
+    PaperPoint("PRB", "floor above the rear bogie centre", "rear", "centre", "floor"),
+    PaperPoint("PLA", "floor above the rear bogie's left air spring", "rear", "left", "floor"),
+    PaperPoint("PRA", "floor above the rear bogie's right air spring", "rear", "right", "floor"),
+)
+"""The paper's points in channel order: the one list every layer reads (via the recorded
+points of a run, or ``GET /api/v1/schemas/points``)."""
+PAPER_POINT_NAMES = tuple(p.name for p in PAPER_POINTS)
+"""Names of :data:`PAPER_POINTS`, in order."""
+FLOOR_TOLERANCE_M = 0.05
+"""A user point this close to the floor height counts as a floor point (ISO 2631 floor
+weighting rather than seat)."""
 
 
 @dataclass
@@ -45,6 +85,7 @@ class VehicleModel:
     elements: list[SuspensionElement]
     wheelsets: list[int]
     points: list[tuple[str, int, str]] = field(default_factory=list)
+    recorded: list[RecordedPoint] = field(default_factory=list)
     rolling_circle_half_distance: float = 0.7465
     wheel_radius: float = 0.42
 
@@ -74,18 +115,14 @@ def floor_grid(spacing: float) -> list[tuple[str, tuple[float, float]]]:
 
 
 def paper_point_positions(params: Vehicle, output: Output) -> list[OutputPoint]:
-    """The paper's points PR, PFB, PC, PRB, PLA, PRA in car-body coordinates (DESIGN §5)."""
+    """The paper's points :data:`PAPER_POINTS` in car-body coordinates (m)."""
     lc = params.geometry.bogie_centre_spacing / 2.0
     ys = params.geometry.secondary_lateral_half_spacing
-    fl, rf = output.floor_height_m, output.roof_height_m
-    return [
-        OutputPoint(name="PR", x=lc, y=0.0, z=rf),
-        OutputPoint(name="PFB", x=lc, y=0.0, z=fl),
-        OutputPoint(name="PC", x=0.0, y=0.0, z=fl),
-        OutputPoint(name="PRB", x=-lc, y=0.0, z=fl),
-        OutputPoint(name="PLA", x=-lc, y=ys, z=fl),
-        OutputPoint(name="PRA", x=-lc, y=-ys, z=fl),
-    ]
+    x = {"front": lc, "centre": 0.0, "rear": -lc}
+    y = {"centre": 0.0, "left": ys, "right": -ys}
+    z = {"floor": output.floor_height_m, "roof": output.roof_height_m}
+    return [OutputPoint(name=p.name, x=x[p.along], y=y[p.across], z=z[p.level])
+            for p in PAPER_POINTS]
 
 
 def carbody_output_points(params: Vehicle, output: Output) -> list[OutputPoint]:
@@ -117,22 +154,61 @@ def carbody_output_points(params: Vehicle, output: Output) -> list[OutputPoint]:
 class RecordedPoint:
     """A point whose accelerations are recorded (channels ``<body>.<name>.acc.<y|z>``).
 
-    ``x``, ``y``, ``z`` (m) are its position in the nominal vehicle geometry: x from the car-body
-    centre, forward positive; y left positive; z above top of rail. For car-body points these
-    are car-body coordinates; a frame's or wheelset's ``centre`` is its centre of gravity.
+    Attributes
+    ----------
+    body, name : str
+        Body and point name.
+    description : str
+        One line for people (the paper's points say which of the paper's points they are).
+    x, y, z : float
+        Position in the nominal vehicle geometry (m): x from the car-body centre, forward
+        positive; y left positive; z above top of rail. For car-body points these are car-body
+        coordinates; a frame's or wheelset's ``centre`` is its centre of gravity.
+    on_floor : bool or None
+        Whether the point is on the car-body floor (ISO 2631 / EN 12299 floor measurement);
+        None for points off the car body.
+    kind : {"paper", "user", "grid", "body"}
+        One of the paper's points, a user point, a floor-grid point (comfort maps), or the
+        centre of a frame or wheelset.
     """
 
     body: str
     name: str
+    description: str
     x: float
     y: float
     z: float
+    on_floor: bool | None
+    kind: str
+
+    @property
+    def position(self) -> tuple[float, float, float]:
+        """``(x, y, z)`` in m."""
+        return (self.x, self.y, self.z)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (as in result files and the API)."""
+        return {"body": self.body, "name": self.name, "description": self.description,
+                "x": self.x, "y": self.y, "z": self.z, "on_floor": self.on_floor,
+                "kind": self.kind}
+
+
+def _carbody_point(pt: OutputPoint, output: Output, kind: str) -> RecordedPoint:
+    paper = next((p for p in PAPER_POINTS if p.name == pt.name), None) if kind == "paper" else None
+    if paper is not None:
+        text, floor = f"{paper.name}: {paper.description}", paper.level == "floor"
+    elif kind == "grid":
+        text, floor = "floor grid point (comfort map)", True
+    else:
+        floor = abs(pt.z - output.floor_height_m) <= FLOOR_TOLERANCE_M
+        text = f"user point, {'on the floor' if floor else f'{pt.z:g} m above top of rail'}"
+    return RecordedPoint("carbody", pt.name, text, pt.x, pt.y, pt.z, floor, kind)
 
 
 def recorded_points(params: Vehicle, output: Output | None = None) -> list[RecordedPoint]:
-    """The recorded points of the vehicle in channel order (the rule :func:`build_vehicle`
-    follows): the car-body points of :func:`carbody_output_points`, then the centres of
-    ``frame1``, ``frame2`` and ``wheelset1`` … ``wheelset4``.
+    """The recorded points of the vehicle in channel order: those :func:`build_vehicle` makes
+    (the car-body points of :func:`carbody_output_points`, then the centres of ``frame1``,
+    ``frame2`` and ``wheelset1`` … ``wheelset4``).
 
     Parameters
     ----------
@@ -145,17 +221,7 @@ def recorded_points(params: Vehicle, output: Output | None = None) -> list[Recor
     -------
     list of RecordedPoint
     """
-    output = output or Output()
-    pts = [RecordedPoint("carbody", p.name, p.x, p.y, p.z)
-           for p in carbody_output_points(params, output)]
-    g = params.geometry
-    lc, lw = g.bogie_centre_spacing / 2.0, g.wheelbase / 2.0
-    for i, x in enumerate((lc, -lc)):
-        pts.append(RecordedPoint(f"frame{i + 1}", "centre", x, 0.0, params.frame.cg_height))
-    for i, x in enumerate((lc + lw, lc - lw, -lc + lw, -lc - lw)):
-        pts.append(RecordedPoint(f"wheelset{i + 1}", "centre", x, 0.0,
-                                 params.wheelset.cg_height))
-    return pts
+    return build_vehicle(params, output).recorded
 
 
 def build_vehicle(
@@ -327,24 +393,31 @@ def build_vehicle(
                     )
                 )
 
-    # recorded points (carbody_output_points / recorded_points give the same list)
+    # recorded points: markers for the kernel, RecordedPoints for everyone else
     points: list[tuple[str, int, str]] = []
-    for pt in carbody_output_points(params, output):
+    recorded: list[RecordedPoint] = []
+    n_paper, n_user = len(PAPER_POINTS), len(output.points)
+    for k, pt in enumerate(carbody_output_points(params, output)):
         marker = f"point.{pt.name}"
         carbody_body.add_marker(
             marker, (pt.x - carbody_body.x_ref, pt.y, pt.z - carbody_body.cg_height)
         )
         points.append((pt.name, ic, marker))
+        kind = "paper" if k < n_paper else "user" if k < n_paper + n_user else "grid"
+        recorded.append(_carbody_point(pt, output, kind))
     for i in (*i_frames, *i_ws):
         b = bodies[i]
         b.add_marker("centre", (0.0, 0.0, 0.0), lock_pitch=b.is_wheelset)
         points.append(("centre", i, "centre"))
+        recorded.append(RecordedPoint(b.name, "centre", f"centre of gravity of {b.name}",
+                                      b.x_ref, 0.0, b.cg_height, None, "body"))
 
     return VehicleModel(
         bodies=bodies,
         elements=elements,
         wheelsets=list(i_ws),
         points=points,
+        recorded=recorded,
         rolling_circle_half_distance=g.rolling_circle_half_distance,
         wheel_radius=g.wheel_radius,
     )

@@ -7,7 +7,7 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Path
 
 from flexride.api.errors import NotFound
-from flexride.api.schemas import PresetOut
+from flexride.api.schemas import PaperPointOut, PresetOut
 
 router = APIRouter(tags=["presets"])
 
@@ -37,6 +37,19 @@ def scenario_schema() -> dict[str, Any]:
     from flexride.model.scenario import Scenario
 
     return Scenario.model_json_schema()
+
+
+@router.get("/schemas/points", response_model=list[PaperPointOut],
+            summary="The paper's measurement points")
+def paper_points() -> list[dict[str, Any]]:
+    """The paper's car-body points (PR, PFB, PC, PRB, PLA, PRA) in channel order, with a
+    one-line description and where each sits; a run's own points (with positions) are in
+    ``GET /jobs/{id}/channels``."""
+    from dataclasses import asdict
+
+    from flexride.vehicle.topology import PAPER_POINTS
+
+    return [asdict(p) for p in PAPER_POINTS]
 
 
 @router.get("/schemas/study", response_model=dict[str, Any], summary="Study request schema")
