@@ -1,6 +1,6 @@
 // Channel pickers: a multiple select grouped by body, and point / direction selects.
 
-import { h, prettyUnit, channelLabel, DIRECTION_NAMES } from "./dom.js";
+import { h, prettyUnit, channelLabel, parseChannel, DIRECTION_NAMES } from "./dom.js";
 
 const BODY_ORDER = (b) => (b === "carbody" ? "0" : b.startsWith("frame") ? `1${b}` : b.startsWith("wheelset") ? `2${b}` : `3${b}`);
 
@@ -8,7 +8,7 @@ const BODY_ORDER = (b) => (b === "carbody" ? "0" : b.startsWith("frame") ? `1${b
 export function groupChannels(channels) {
   const groups = new Map();
   for (const c of channels) {
-    const body = c.body || c.name.split(".")[0];
+    const body = c.body || parseChannel(c.name)?.body || c.name;
     if (!groups.has(body)) groups.set(body, []);
     groups.get(body).push(c);
   }

@@ -244,13 +244,27 @@ export function toCsv(header, rows) {
   return [header, ...rows].map((r) => r.map(q).join(",")).join("\n") + "\n";
 }
 
-/** Pretty channel label: carbody.PC.acc.z → "PC acc z (car body)". */
-export function channelLabel(name) {
+/** Parts of a channel name <body>.<point>.<quantity>.<direction> (the naming rule of
+ * flexride.results.Channel; GET /jobs/{id}/channels gives the same parts), or null. The
+ * dashboard's only parser of channel names. */
+export function parseChannel(name) {
   const p = String(name).split(".");
-  if (p.length !== 4) return name;
-  const [body, point, q, d] = p;
-  const bodyName = body === "carbody" ? "car body" : body.replace(/(\d+)$/, " $1");
-  return `${bodyName} ${point} ${q} ${d}`;
+  if (p.length !== 4 || p.some((x) => !x)) return null;
+  const [body, point, quantity, direction] = p;
+  return { body, point, quantity, direction };
+}
+
+/** A channel name from its parts (the inverse of parseChannel). */
+export function channelName({ body, point, quantity, direction }) {
+  return `${body}.${point}.${quantity}.${direction}`;
+}
+
+/** Pretty channel label: carbody.PC.acc.z → "car body PC acc z". */
+export function channelLabel(name) {
+  const c = parseChannel(name);
+  if (!c) return name;
+  const bodyName = c.body === "carbody" ? "car body" : c.body.replace(/(\d+)$/, " $1");
+  return `${bodyName} ${c.point} ${c.quantity} ${c.direction}`;
 }
 
 export const DIRECTION_NAMES = { z: "vertical", y: "lateral", x: "longitudinal", n: "normal" };

@@ -3,7 +3,7 @@
 // their dominant peaks labelled.
 
 import { api } from "../api.js";
-import { prettyUnit, fmt, channelLabel } from "./dom.js";
+import { prettyUnit, fmt, channelLabel, parseChannel } from "./dom.js";
 import { plotCard, baseLayout, onZoom, pointsFor, COLORS, DASHES } from "./plot.js";
 
 const QUANTITY = {
@@ -12,7 +12,7 @@ const QUANTITY = {
 };
 
 export function quantityName(channel) {
-  const q = String(channel).split(".")[2];
+  const q = parseChannel(channel)?.quantity;
   return QUANTITY[q] || q || "Value";
 }
 

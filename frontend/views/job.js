@@ -5,7 +5,7 @@
 import { api, cached } from "../api.js";
 import {
   h, setChildren, badge, progressBar, duration, when, fmt, fixed, errorBox, notice, loading, tabs,
-  dataTable, prettyUnit, DIRECTION_NAMES, channelLabel,
+  dataTable, prettyUnit, DIRECTION_NAMES, channelLabel, channelName,
 } from "../components/dom.js";
 import { plotCard, baseLayout, COLORS } from "../components/plot.js";
 import { seriesPlot, spectrumPlot } from "../components/series.js";
@@ -270,7 +270,7 @@ export default async function render(main, ctx) {
           return;
         }
         card.loading("Computing the Sperling breakdown…");
-        const names = ["z", "y"].map((d) => `carbody.${point}.acc.${d}`).filter(has);
+        const names = ["z", "y"].map((d) => channelName({ body: "carbody", point, quantity: "acc", direction: d })).filter(has);
         try {
           const res = await api.sperling(id, { channels: names });
           last = res;
@@ -311,7 +311,8 @@ export default async function render(main, ctx) {
         card.loading("Correlating on the server…");
         try {
           const lagCap = Math.max(0.05, 0.95 * (chans.t_end_s - chans.t_start_s));
-          const res = await api.correlation(id, { reference: `carbody.${ref}.acc.${dir}`, channels: [`carbody.${other}.acc.${dir}`], max_lag_s: Math.min(maxLag, lagCap) });
+          const acc = (point) => channelName({ body: "carbody", point, quantity: "acc", direction: dir });
+          const res = await api.correlation(id, { reference: acc(ref), channels: [acc(other)], max_lag_s: Math.min(maxLag, lagCap) });
           const c = res.channels[0];
           last = c;
           const lag = c.lag_at_max_interpolated_s ?? c.lag_at_max_s;
@@ -355,8 +356,8 @@ export default async function render(main, ctx) {
       let ws = wheelsets[0];
       let dir = "z";
       const plot = seriesPlot({ title: "Wheel–rail forces", id: "plot-forces", description: "Wheel–rail contact forces of the chosen wheelset", height: 380 });
-      const draw = () => plot.set(["left", "right"].map((side, i) => `${ws}.${side}.force.${dir}`).filter(has)
-        .map((c, i) => ({ job: id, channel: c, label: `${ws} ${c.split(".")[1]} wheel, ${dir === "z" ? "vertical Q" : dir === "y" ? "lateral Y" : "normal N"}`, scale: 1e-3, unit: "kN", color: COLORS[i] })));
+      const draw = () => plot.set(["left", "right"].map((side) => ({ side, name: channelName({ body: ws, point: side, quantity: "force", direction: dir }) })).filter((c) => has(c.name))
+        .map((c, i) => ({ job: id, channel: c.name, label: `${ws} ${c.side} wheel, ${dir === "z" ? "vertical Q" : dir === "y" ? "lateral Y" : "normal N"}`, scale: 1e-3, unit: "kN", color: COLORS[i] })));
       if (!wheelsets.length) panel.append(notice("empty", null, "This run recorded no wheel–rail forces."));
       else {
         plot.card.setControls(h("div", { class: "controls" },
