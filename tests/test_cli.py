@@ -1,4 +1,5 @@
-"""The command-line interface, run as a user would (subprocess, exit codes, JSON)."""
+"""The command-line interface: one run as a user would (a subprocess: entry point, exit code,
+JSON), the rest in-process with typer's runner (same exit codes and messages, no start-up)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,16 @@ from flexride.results import Results
 def _run(*args, cwd=None):
     return subprocess.run([sys.executable, "-m", "flexride.cli", *args], capture_output=True,
                           text=True, cwd=cwd, timeout=600)
+
+
+def _invoke(*args):
+    """The CLI in this process: (exit code, standard output, standard error, one line)."""
+    from typer.testing import CliRunner
+
+    from flexride.cli import app
+
+    r = CliRunner().invoke(app, list(args))
+    return r.exit_code, r.stdout, r.stderr, " ".join(r.stderr.split())
 
 
 def test_run_preset_json(tmp_path):
@@ -28,21 +39,23 @@ def test_run_preset_json(tmp_path):
 
 
 def test_presets_lists_all():
-    p = _run("presets", "--json")
-    assert p.returncode == 0
-    assert len(json.loads(p.stdout)) >= 18
+    code, out, _, _ = _invoke("presets", "--json")
+    assert code == 0
+    assert len(json.loads(out)) >= 18
 
 
 def test_errors_are_one_line_and_nonzero(tmp_path):
-    p = _run("run", "--preset", "nope", "-o", str(tmp_path / "x.h5"))
-    assert p.returncode == 2
-    assert p.stderr.strip().startswith("error: unknown preset")
-    p = _run("run", "--preset", "paper-metro", "--set", "solver.dt=1e-3", "-o",
-             str(tmp_path / "x.h5"))
-    assert p.returncode == 2 and "use solver.dt =" in p.stderr
+    code, _, _, line = _invoke("run", "--preset", "nope", "-o", str(tmp_path / "x.h5"))
+    assert code == 2 and line.startswith("error: unknown preset")
+    code, _, _, line = _invoke("run", "--preset", "paper-metro", "--set", "solver.dt=1e-3",
+                               "-o", str(tmp_path / "x.h5"))
+    assert code == 2 and "use solver.dt =" in line
     assert not (tmp_path / "x.h5").exists()
-    p = _run("run", str(tmp_path / "missing.yaml"))
-    assert p.returncode == 2 and "not found" in p.stderr
+    code, _, _, line = _invoke("run", str(tmp_path / "missing.yaml"))
+    assert code == 2 and "not found" in line
+    code, _, err, line = _invoke("run", "--preset", "paper-metro", "--set",
+                                 "excitation.9.seed=3", "-o", str(tmp_path / "x.h5"))
+    assert code == 2 and "Traceback" not in err and "overrides.excitation.9.seed" in line
 
 
 def _nested_files(tmp_path):
@@ -64,9 +77,9 @@ def _nested_files(tmp_path):
 
 def test_deeply_nested_scenario_file_is_one_line(tmp_path):
     deep = _nested_files(tmp_path)[0]
-    p = _run("run", str(deep), "-o", str(tmp_path / "x.h5"))
-    assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
-    assert p.stderr.strip() == f"error: {deep}: nested more than 64 levels deep"
+    code, _, err, line = _invoke("run", str(deep), "-o", str(tmp_path / "x.h5"))
+    assert code == 2 and "Traceback" not in err, err
+    assert line == f"error: {deep}: nested more than 64 levels deep"
 
 
 def test_nested_or_expanding_files_are_refused_before_anything_runs(tmp_path):
