@@ -67,8 +67,11 @@ def _start(args: list[str], env: dict[str, str], log: Path) -> subprocess.Popen:
 
 
 def _stop(proc: subprocess.Popen) -> None:
+    """SIGTERM to the process (it stops its own children), then SIGKILL to whatever of its
+    process group is left. (SIGTERM to the whole group at once can leave ``flexride serve``
+    waiting for its killed workers.)"""
     with contextlib.suppress(ProcessLookupError):
-        os.killpg(proc.pid, signal.SIGTERM)
+        proc.send_signal(signal.SIGTERM)
     try:
         proc.wait(20)
     except subprocess.TimeoutExpired:
@@ -154,10 +157,19 @@ class _Conn:
         self.reader: asyncio.StreamReader | None = None
         self.writer: asyncio.StreamWriter | None = None
 
-    async def get(self, path: str) -> tuple[int, bytes]:
-        """Status and (decompressed) body of ``GET path``; reconnects when needed."""
+    async def get(self, path: str, timeout: float = 30.0) -> tuple[int, bytes]:
+        """Status and (decompressed) body of ``GET path``; reconnects when needed, and drops
+        the connection after a failure or a timeout (s)."""
+        try:
+            return await asyncio.wait_for(self._get(path), timeout)
+        except BaseException:
+            self.close()
+            raise
+
+    async def _get(self, path: str) -> tuple[int, bytes]:
         if self.writer is None:
             self.reader, self.writer = await asyncio.open_connection(self.host, self.port)
+        assert self.reader is not None
         self.writer.write(f"GET {path} HTTP/1.1\r\nHost: {self.host}:{self.port}\r\n"
                           "Accept-Encoding: gzip\r\n\r\n".encode())
         head = (await self.reader.readuntil(b"\r\n\r\n")).decode("latin-1").split("\r\n")
@@ -173,12 +185,15 @@ class _Conn:
         return int(head[0].split(" ", 2)[1]), body
 
     async def _chunked(self) -> bytes:
+        """A body sent with ``Transfer-Encoding: chunked`` (no trailers)."""
+        assert self.reader is not None
         parts = []
         while True:
             size = int((await self.reader.readline()).split(b";")[0], 16)
-            parts.append(await self.reader.readexactly(size + 2))
+            chunk = await self.reader.readexactly(size + 2)  # data and its CRLF
             if size == 0:
-                return b"".join(parts)[:-2]
+                return b"".join(parts)
+            parts.append(chunk[:-2])
 
     def close(self) -> None:
         if self.writer is not None:
@@ -218,17 +233,21 @@ async def _run_load(base: str, job_id: str, clients: int, duration: float,
     targets = list(_targets(job_id).items())
     out: list = []
     limits = httpx.Limits(max_connections=clients, max_keepalive_connections=clients)
-    async with httpx.AsyncClient(base_url=base, limits=limits, timeout=30.0) as client:
-        conns = [_Conn("127.0.0.1", int(base.rsplit(":", 1)[1])) for _ in range(clients)]
-        gets = [c.get for c in conns] if kind == "raw" else \
-            [functools.partial(_httpx_get, client)] * clients
+    conns = [_Conn("127.0.0.1", int(base.rsplit(":", 1)[1])) for _ in range(clients)]
+    async with contextlib.AsyncExitStack() as stack:
+        if kind == "httpx":
+            client = await stack.enter_async_context(
+                httpx.AsyncClient(base_url=base, limits=limits, timeout=30.0))
+            gets = [functools.partial(_httpx_get, client)] * clients
+        else:
+            gets = [c.get for c in conns]
         deadline = time.perf_counter() + duration
         t0 = time.perf_counter()
         await asyncio.gather(*(_client_loop(gets[k], targets, k, deadline, out)
                                for k in range(clients)))
         wall = time.perf_counter() - t0
-        for c in conns:
-            c.close()
+    for c in conns:
+        c.close()
     return out, wall
 
 
@@ -280,8 +299,19 @@ def _print_table(results: list, wall: float) -> None:
               f"{_pct(v, 99):8.1f} {max(v):8.1f} {errors:7d}")
 
 
-def latency(url: str, clients: int, duration: float, copies: int, kind: str) -> None:
-    """Read load on one finished 20 s job while the runner is idle; prints the table."""
+def _cpu_s(pid: int) -> float:
+    """CPU time (user + system, s) used so far by process ``pid`` itself (Linux; 0 elsewhere)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def latency(url: str, clients: int, duration: float, copies: int, kind: str,
+            api_pid: int) -> None:
+    """Read load on one finished 20 s job while the runner is idle; prints the table and
+    the CPU time the API process spent per request."""
     job_id = _submit_finished_job(url, copies)
     n = httpx.get(f"{url}{API}/jobs/{job_id}/channels").json()["n_samples"]
     for path in _targets(job_id).values():  # one request each before the clock starts
@@ -291,13 +321,18 @@ def latency(url: str, clients: int, duration: float, copies: int, kind: str) -> 
     proc = ctx.Process(target=_load, args=(url, job_id, clients, duration, kind, q))
     load0 = _load_note()
     proc.start()
+    api0 = _cpu_s(api_pid)
     results, wall, cpu = q.get(timeout=duration + 600)
+    api_cpu = _cpu_s(api_pid) - api0
     proc.join()
     print(f"\n1. Reads under load {load0}: a finished 20 s run ({n} samples per channel), "
           f"{copies + 1} jobs in the list, runner idle; {clients} concurrent clients "
           f"({_CLIENTS[kind]}, one process using {cpu / wall:.0%} of a core) for {wall:.1f} s: "
           f"{len(results)} requests ({len(results) / wall:.0f} req/s)")
     _print_table(results, wall)
+    print(f"   API process: {api_cpu / wall:.0%} of a core, "
+          f"{1000 * api_cpu / max(1, len(results)):.2f} ms CPU per request; "
+          f"load average at the end {os.getloadavg()[0]:.1f}")
 
 
 # -- 2. throughput ---------------------------------------------------------------------------
@@ -389,7 +424,7 @@ def main() -> None:
             api, url = _serve(tmp, "embedded", FLEXRIDE_WORKERS="2")
             procs.append(api)
             _wait(lambda: _workers_alive(url, 2), 120.0, "2 embedded workers")
-            latency(url, args.clients, load_s, max(0, args.list_jobs - 1), args.client)
+            latency(url, args.clients, load_s, max(0, args.list_jobs - 1), args.client, api.pid)
             if args.reads_only:
                 return
 

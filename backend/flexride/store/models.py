@@ -45,6 +45,8 @@ class Job(Base):
     __tablename__ = "flexride_jobs"
     __table_args__ = (
         Index("ix_flexride_jobs_status_created", "status", "created_at"),
+        # the job list, newest first: without it every page sorts the whole table
+        Index("ix_flexride_jobs_created", "created_at", "id"),
         Index("ix_flexride_jobs_study", "study_id", "study_index"),
     )
 

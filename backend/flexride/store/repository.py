@@ -21,6 +21,9 @@ from flexride.store.models import FINAL_STATUSES, Job, Study, WorkerSeen
 
 DeadWorker = Callable[[str], bool]
 
+LIST_COLUMNS = tuple(c for c in Job.__table__.c if c.name not in ("scenario", "summary"))
+"""Columns of a job in lists: all but the large JSON scenario and summary."""
+
 
 def now() -> float:
     """Current UTC time in seconds since the epoch (the store's time unit)."""
@@ -110,6 +113,16 @@ class JobStore:
         with self.reading() as s:
             return s.get(Job, job_id, options=opts)
 
+    def result_file_of(self, job_id: str) -> str | None:
+        """Result file name of job ``job_id`` if it has succeeded and has one, else None.
+
+        One indexed query of one column (no ORM object): the check every results request
+        makes before it is answered, possibly from memory.
+        """
+        q = select(Job.result_file).where(Job.id == job_id, Job.status == "succeeded")
+        with self.engine.connect() as conn:
+            return conn.execute(q).scalar_one_or_none()
+
     def list_jobs(
         self,
         *,
@@ -117,18 +130,23 @@ class JobStore:
         study_id: str | None = None,
         limit: int = 50,
         offset: int = 0,
-    ) -> tuple[list[Job], int]:
-        """Jobs newest first with optional filters, and the total count matching them."""
-        q = select(Job)
+    ) -> tuple[list[Any], int]:
+        """Jobs newest first with optional filters, and the total count matching them.
+
+        The page is read as plain rows (no ORM objects) of the columns of :class:`Job` other
+        than the large JSON ``scenario`` and ``summary`` (:data:`LIST_COLUMNS`), with the
+        attributes of a :class:`Job` of those names; page and count share one connection.
+        """
+        q = select(*LIST_COLUMNS)
         cq = select(func.count()).select_from(Job)
         if status is not None:
             q, cq = q.where(Job.status == status), cq.where(Job.status == status)
         if study_id is not None:
             q, cq = q.where(Job.study_id == study_id), cq.where(Job.study_id == study_id)
         q = q.order_by(Job.created_at.desc(), Job.id).limit(limit).offset(offset)
-        with self.reading() as s:
-            items = list(s.scalars(q))
-            total = int(s.execute(cq).scalar_one())
+        with self.engine.connect() as conn:
+            items = list(conn.execute(q))
+            total = int(conn.execute(cq).scalar_one())
         return items, total
 
     def study_jobs(self, study_id: str, *, summary: bool = False) -> list[Job]:
@@ -392,7 +410,8 @@ class JobStore:
         out: dict[str, dict[str, int]] = {sid: {} for sid in study_ids}
         with self.reading() as s:
             for sid, status, n in s.execute(q):
-                out[sid][status] = int(n)
+                if sid is not None:
+                    out[sid][status] = int(n)
         return out
 
     def delete_study(self, study_id: str) -> tuple[Study | None, list[Job]]:

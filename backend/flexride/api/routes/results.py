@@ -1,16 +1,19 @@
 """Routes of a job's results: summary, channels, series, spectra, Sperling breakdown,
-cross-correlation and the HDF5 download."""
+cross-correlation and the HDF5 download.
+
+Every JSON answer goes through :func:`flexride.api.services.result_cache.cached_answer`: the
+job is checked in the database on every request, the rendered answer of a finished job is
+kept in memory, keyed by the job, its file and every parameter passed here."""
 
 from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Path, Query
+from fastapi import APIRouter, Path, Query, Request
 from fastapi.responses import FileResponse
 from pydantic import StringConstraints
 
 from flexride.api.deps import ServicesDep
-from flexride.api.errors import SafeJSONResponse
 from flexride.api.schemas import (
     ChannelList,
     CorrelationOut,
@@ -20,6 +23,7 @@ from flexride.api.schemas import (
     SperlingOut,
 )
 from flexride.api.services import results as svc_results
+from flexride.api.services.result_cache import cached_answer
 
 router = APIRouter(prefix="/jobs/{job_id}", tags=["results"],
                    responses={409: {"description": "The job has no results (yet)"}})
@@ -44,20 +48,23 @@ def _channels(names: list[str]) -> list[str]:
 
 
 @router.get("/summary", response_model=dict[str, Any], summary="Comfort summary")
-def summary(job_id: JobId, svc: ServicesDep) -> Any:
+def summary(request: Request, job_id: JobId, svc: ServicesDep) -> Any:
     """Comfort indices (Sperling, ISO 2631, EN 12299), peaks, rms, dominant frequencies per
     point and direction, correlations and running safety (``flexride.analysis.analyze``)."""
-    return SafeJSONResponse(svc_results.summary(svc, job_id))
+    return cached_answer(request, svc, job_id, "summary", (),
+                         lambda: svc_results.summary(svc, job_id), from_file=False)
 
 
 @router.get("/channels", response_model=ChannelList, summary="Recorded channels")
-def channels(job_id: JobId, svc: ServicesDep) -> Any:
+def channels(request: Request, job_id: JobId, svc: ServicesDep) -> Any:
     """Channel names with units, sample rate and time range."""
-    return SafeJSONResponse(svc_results.channel_list(svc, job_id))
+    return cached_answer(request, svc, job_id, "channels", (),
+                         lambda: svc_results.channel_list(svc, job_id))
 
 
 @router.get("/series", response_model=SeriesOut, summary="Decimated time series")
 def series(
+    request: Request,
     job_id: JobId,
     svc: ServicesDep,
     channels: Channels,
@@ -71,12 +78,16 @@ def series(
 ) -> Any:
     """Channels decimated on the server to at most ``max_points`` samples each, with their
     sample times."""
-    return SafeJSONResponse(svc_results.series(svc, job_id, _channels(channels), max_points,
-                                               method, t_start, t_end, distance))
+    names = _channels(channels)
+    return cached_answer(request, svc, job_id, "series",
+                         (tuple(names), max_points, method, t_start, t_end, distance),
+                         lambda: svc_results.series(svc, job_id, names, max_points, method,
+                                                    t_start, t_end, distance))
 
 
 @router.get("/spectrum", response_model=SpectrumOut, summary="Amplitude spectrum")
 def spectrum(
+    request: Request,
     job_id: JobId,
     svc: ServicesDep,
     channels: Channels,
@@ -86,12 +97,16 @@ def spectrum(
 ) -> Any:
     """One-sided peak-amplitude spectrum of the whole record (m/s² per line), with the
     dominant peaks."""
-    return SafeJSONResponse(svc_results.spectrum(svc, job_id, _channels(channels), "amplitude",
-                                                 fmax, dynamic, 8.0, max_points))
+    names = _channels(channels)
+    return cached_answer(request, svc, job_id, "spectrum",
+                         (tuple(names), fmax, dynamic, max_points),
+                         lambda: svc_results.spectrum(svc, job_id, names, "amplitude", fmax,
+                                                      dynamic, 8.0, max_points))
 
 
 @router.get("/psd", response_model=SpectrumOut, summary="Power spectral density")
 def psd(
+    request: Request,
     job_id: JobId,
     svc: ServicesDep,
     channels: Channels,
@@ -102,12 +117,16 @@ def psd(
     max_points: Annotated[int, Query(ge=10, le=200_000)] = 5000,
 ) -> Any:
     """Welch PSD ((m/s²)²/Hz; Hann segments, 50 % overlap) with the dominant peaks."""
-    return SafeJSONResponse(svc_results.spectrum(svc, job_id, _channels(channels), "psd", fmax,
-                                                 dynamic, segment_s, max_points))
+    names = _channels(channels)
+    return cached_answer(request, svc, job_id, "psd",
+                         (tuple(names), fmax, segment_s, dynamic, max_points),
+                         lambda: svc_results.spectrum(svc, job_id, names, "psd", fmax, dynamic,
+                                                      segment_s, max_points))
 
 
 @router.get("/spectrogram", response_model=SpectrogramOut, summary="Spectrogram")
 def spectrogram(
+    request: Request,
     job_id: JobId,
     svc: ServicesDep,
     channel: Annotated[str, Query(min_length=1, max_length=120)],
@@ -118,21 +137,25 @@ def spectrogram(
     dynamic: Dynamic = True,
 ) -> Any:
     """Short-time Fourier transform of one channel (``values[frequency][time]``)."""
-    return SafeJSONResponse(svc_results.spectrogram_of(svc, job_id, channel, window_s, overlap,
-                                                       fmax, dynamic, scaling))
+    return cached_answer(request, svc, job_id, "spectrogram",
+                         (channel, window_s, overlap, fmax, scaling, dynamic),
+                         lambda: svc_results.spectrogram_of(svc, job_id, channel, window_s,
+                                                            overlap, fmax, dynamic, scaling))
 
 
 @router.get("/sperling", response_model=SperlingOut, summary="Sperling breakdown")
-def sperling(job_id: JobId, svc: ServicesDep, channels: Channels,
+def sperling(request: Request, job_id: JobId, svc: ServicesDep, channels: Channels,
              dynamic: Dynamic = True) -> Any:
     """Sperling index (spectral form, 5 s segments) with W per spectral line and per
     third-octave band, and the filter form for comparison (records of at least 5 s)."""
-    return SafeJSONResponse(svc_results.sperling_breakdown(svc, job_id, _channels(channels),
-                                                           dynamic))
+    names = _channels(channels)
+    return cached_answer(request, svc, job_id, "sperling", (tuple(names), dynamic),
+                         lambda: svc_results.sperling_breakdown(svc, job_id, names, dynamic))
 
 
 @router.get("/correlation", response_model=CorrelationOut, summary="Cross-correlation")
 def correlation(
+    request: Request,
     job_id: JobId,
     svc: ServicesDep,
     reference: Annotated[str, Query(min_length=1, max_length=120,
@@ -144,9 +167,11 @@ def correlation(
 ) -> Any:
     """R_ab(τ) of the reference (a) with each channel (b): a maximum at τ > 0 means b lags
     a; normalised curve, lag and value of the maximum, local maxima."""
-    return SafeJSONResponse(svc_results.correlation(svc, job_id, reference,
-                                                    _channels(channels), max_lag_s, dynamic,
-                                                    max_points))
+    names = _channels(channels)
+    return cached_answer(request, svc, job_id, "correlation",
+                         (reference, tuple(names), max_lag_s, dynamic, max_points),
+                         lambda: svc_results.correlation(svc, job_id, reference, names,
+                                                         max_lag_s, dynamic, max_points))
 
 
 @router.get("/download", response_class=FileResponse, summary="Download the HDF5 file",

@@ -86,9 +86,15 @@ def lttb_indices(x: np.ndarray, y: np.ndarray, max_points: int) -> np.ndarray:
     n = int(y.size)
     if n <= max_points or max_points < 3:
         return np.arange(n) if n <= max_points else np.array([0, n - 1])
-    idx = _lttb(np.ascontiguousarray(x, dtype=np.float64),
-                np.ascontiguousarray(y, dtype=np.float64), int(max_points))
+    idx = _lttb(_writable(x), _writable(y), int(max_points))
     return np.unique(idx)
+
+
+def _writable(a: np.ndarray) -> np.ndarray:
+    """``a`` as a contiguous, writable float64 array (copied only if needed): cached result
+    arrays are read-only, and numba would compile a second LTTB for read-only arrays."""
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    return a if a.flags.writeable else a.copy()
 
 
 def decimate_indices(x: np.ndarray, y: np.ndarray, max_points: int, method: str) -> np.ndarray:

@@ -8,7 +8,7 @@ removed, as :func:`flexride.analysis.analyze` does); ``dynamic=false`` takes the
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -40,9 +40,12 @@ _THIRD_OCTAVE_CENTRES = (0.5, 0.63, 0.8, 1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.
 def _f(a: np.ndarray) -> list[Any]:
     """Array → (nested) list with non-finite values as None."""
     a = np.asarray(a, dtype=np.float64)
-    if np.all(np.isfinite(a)):
+    finite = np.isfinite(a)
+    if np.all(finite):
         return a.tolist()
-    return np.where(np.isfinite(a), a, None).tolist()
+    out = a.astype(object)
+    out[~finite] = None
+    return out.tolist()
 
 
 def _num(v: Any) -> float | None:
@@ -53,15 +56,24 @@ def _num(v: Any) -> float | None:
     return v if np.isfinite(v) else None
 
 
+def result_file(svc: Services, job_id: str) -> str:
+    """Name of the result file of a succeeded job (one query of one column), or
+    :class:`NotFound` / :class:`Conflict` saying why there is none."""
+    name = svc.store.result_file_of(job_id)
+    if name is None:
+        return str(finished_job(svc, job_id).result_file)  # raises with the reason
+    return name
+
+
 def _read(svc: Services, job_id: str, channels: list[str], t_start: float | None = None,
           t_end: float | None = None) -> ChannelData:
-    job = finished_job(svc, job_id)
+    name = result_file(svc, job_id)
     if not channels:
         raise AnalysisError("channels: give at least one channel name")
     if len(set(channels)) != len(channels):
         raise AnalysisError("channels: names must be unique")
     try:
-        return svc.files.read(job.result_file, channels, t_start, t_end)
+        return svc.files.read(name, channels, t_start, t_end)
     except KeyError as exc:
         raise AnalysisError(f"channels: {exc.args[0]}") from None
 
@@ -79,8 +91,7 @@ def channel_list(svc: Services, job_id: str) -> dict[str, Any]:
     """Channels of a job with units and sampling, and the recorded points with their
     positions (m, nominal vehicle geometry: x from the car-body centre forward, y left, z above
     top of rail); each channel of a recorded point carries that point's ``position``."""
-    job = finished_job(svc, job_id)
-    d = svc.files.describe(job.result_file)
+    d = svc.files.describe(result_file(svc, job_id))
     where = {(p["body"], p["name"]): [p["x"], p["y"], p["z"]] for p in d["points"]}
     chans = []
     for name, unit in sorted(d["channels"].items()):
@@ -170,7 +181,8 @@ def spectrum(svc: Services, job_id: str, channels: list[str], kind: str, fmax: f
 
 
 def spectrogram_of(svc: Services, job_id: str, channel: str, window_s: float, overlap: float,
-                   fmax: float, dynamic: bool, scaling: str) -> dict[str, Any]:
+                   fmax: float, dynamic: bool,
+                   scaling: Literal["psd", "magnitude"]) -> dict[str, Any]:
     """Short-time spectrum of one channel (at most 250,000 cells: time slices are thinned)."""
     data = _read(svc, job_id, [channel])
     fs = data.sample_rate
@@ -275,7 +287,7 @@ def correlation(svc: Services, job_id: str, reference: str, channels: list[str],
 def result_path(svc: Services, job_id: str) -> tuple[Any, str]:
     """Path of a job's HDF5 file and a download name."""
     job = finished_job(svc, job_id)
-    path = svc.files.path(job.result_file)
+    path = svc.files.path(str(job.result_file))
     if not path.is_file():
         raise NotFound(f"the results file of job {job_id} is missing")
     safe = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in job.name)[:60]
