@@ -159,6 +159,7 @@ def test_schema_is_created_once_and_migrated(tmp_path):
     init_db(engine)  # idempotent
     cols = {c["name"] for c in inspect(engine).get_columns("flexride_jobs")}
     assert {"scenario_hash", "summary", "heartbeat_at", "axes"} <= cols
-    with engine.connect() as conn:
-        assert conn.execute(text("SELECT version FROM flexride_schema")).scalar_one() == 1
+    from flexride.store.db import current_revision, head_revision
+
+    assert current_revision(engine) == head_revision()
     engine.dispose()

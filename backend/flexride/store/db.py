@@ -14,10 +14,12 @@ import os
 import threading
 from pathlib import Path
 
-from sqlalchemy import Engine, create_engine, event, insert, inspect, text, update
+from alembic import command
+from alembic.config import Config as AlembicConfig
+from alembic.runtime.migration import MigrationContext
+from alembic.script import ScriptDirectory
+from sqlalchemy import Connection, Engine, create_engine, event, text
 from sqlalchemy.engine import make_url
-
-from flexride.store.models import SCHEMA_VERSION, Base, SchemaInfo
 
 log = logging.getLogger(__name__)
 
@@ -84,25 +86,38 @@ def writer(engine: Engine) -> Engine:
     return engine.execution_options(sqlite_begin="IMMEDIATE")
 
 
-def _add_missing_columns(conn) -> list[str]:
-    """Add columns that the models have and the tables lack (forward migration)."""
-    added = []
-    insp = inspect(conn)
-    for table in Base.metadata.sorted_tables:
-        existing = {c["name"] for c in insp.get_columns(table.name)}
-        for column in table.columns:
-            if column.name in existing:
-                continue
-            # added as nullable: existing rows have no value for it
-            name = conn.dialect.identifier_preparer.quote(column.name)
-            kind = column.type.compile(dialect=conn.dialect)
-            conn.execute(text(f"ALTER TABLE {table.name} ADD COLUMN {name} {kind}"))
-            added.append(f"{table.name}.{column.name}")
-    return added
+MIGRATIONS = Path(__file__).parent / "migrations"
+"""The Alembic scripts of the job store."""
+VERSION_TABLE = "flexride_alembic_version"
+"""Alembic's revision table of the job store (its own name: the database may hold others)."""
+
+
+def _alembic(conn: Connection) -> AlembicConfig:
+    cfg = AlembicConfig()
+    cfg.set_main_option("script_location", str(MIGRATIONS))
+    cfg.set_main_option("version_table", VERSION_TABLE)
+    cfg.attributes["connection"] = conn
+    return cfg
+
+
+def head_revision() -> str:
+    """The newest revision of the migrations."""
+    head = ScriptDirectory(str(MIGRATIONS)).get_current_head()
+    if head is None:  # pragma: no cover - the package ships its revisions
+        raise RuntimeError("no migrations found")
+    return head
+
+
+def current_revision(engine: Engine) -> str | None:
+    """The revision of the store behind ``engine`` (None for an empty database)."""
+    with engine.connect() as conn:
+        return MigrationContext.configure(
+            conn, opts={"version_table": VERSION_TABLE}).get_current_revision()
 
 
 def init_db(engine: Engine) -> None:
-    """Create the tables, add columns missing from an older store and record the version.
+    """Bring the store to the newest revision of its Alembic migrations (creating the tables
+    on an empty database; a store made before Alembic is adopted by the baseline revision).
 
     Safe to call from several processes at once (an advisory lock on PostgreSQL, the write
     lock on SQLite).
@@ -110,14 +125,8 @@ def init_db(engine: Engine) -> None:
     with writer(engine).begin() as conn:
         if conn.dialect.name == "postgresql":
             conn.execute(text("SELECT pg_advisory_xact_lock(:k)"), {"k": _PG_LOCK_KEY})
-        Base.metadata.create_all(conn, checkfirst=True)
-        added = _add_missing_columns(conn)
-        if added:
-            log.info("job store migrated: added %s", ", ".join(added))
-        row = conn.execute(text("SELECT version FROM flexride_schema WHERE id = 1")).first()
-        if row is None:
-            conn.execute(insert(SchemaInfo).values(id=1, version=SCHEMA_VERSION))
-        elif row[0] < SCHEMA_VERSION:
-            conn.execute(
-                update(SchemaInfo).where(SchemaInfo.id == 1).values(version=SCHEMA_VERSION)
-            )
+        before = MigrationContext.configure(
+            conn, opts={"version_table": VERSION_TABLE}).get_current_revision()
+        if before != head_revision():
+            command.upgrade(_alembic(conn), "head")
+            log.info("job store migrated from %s to %s", before or "nothing", head_revision())

@@ -1,4 +1,6 @@
-"""SQLAlchemy 2 models of the job store: jobs, studies, workers seen, schema version.
+"""SQLAlchemy 2 models of the job store: jobs, studies, workers seen. Their tables are made
+and changed by the Alembic migrations in :mod:`flexride.store.migrations` (a model change
+needs a new revision there).
 
 Times are UTC seconds since the epoch (``float``): the same in SQLite and PostgreSQL, easy to
 compare in SQL (stale heartbeats) and converted to ISO 8601 by the API.
@@ -10,9 +12,6 @@ from typing import Any, ClassVar
 
 from sqlalchemy import JSON, Boolean, Float, ForeignKey, Index, Integer, String, Text
 from sqlalchemy.orm import DeclarativeBase, Mapped, deferred, mapped_column
-
-SCHEMA_VERSION = 1
-"""Version of the table layout; :func:`flexride.store.db.init_db` migrates older stores."""
 
 JOB_STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINAL_STATUSES = ("succeeded", "failed", "cancelled")
@@ -96,11 +95,3 @@ class WorkerSeen(Base):
     last_seen: Mapped[float] = mapped_column(Float, index=True)
     current_job: Mapped[str | None] = mapped_column(String(32), nullable=True)
 
-
-class SchemaInfo(Base):
-    """One row: the schema version of this store."""
-
-    __tablename__ = "flexride_schema"
-
-    id: Mapped[int] = mapped_column(Integer, primary_key=True)
-    version: Mapped[int] = mapped_column(Integer)

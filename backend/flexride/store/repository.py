@@ -11,9 +11,9 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
-from sqlalchemy import Engine, delete, func, select, update
+from sqlalchemy import CursorResult, Engine, Result, delete, func, select, update
 from sqlalchemy.orm import Session, defer, sessionmaker, undefer
 
 from flexride.store.db import get_engine, init_db, writer
@@ -53,6 +53,11 @@ class Claim:
     reason: str
     job: Job | None = None
 
+
+
+def _rows(result: Result[Any]) -> int:
+    """Rows an UPDATE or DELETE touched (``Session.execute`` returns a CursorResult for them)."""
+    return int(cast(CursorResult[Any], result).rowcount)
 
 class JobStore:
     """Job, study and worker records in a SQL database.
@@ -268,7 +273,7 @@ class JobStore:
             .values(**values)
         )
         with self.writing() as s, s.begin():
-            return s.execute(stmt).rowcount == 1
+            return _rows(s.execute(stmt)) == 1
 
     def report_progress(self, job_id: str, worker: str, fraction: float, message: str) -> bool:
         """Record progress (and a heartbeat); False if the job is no longer ``worker``'s."""
@@ -380,7 +385,7 @@ class JobStore:
                     message=f"requeued: {reason}", updated_at=now())
         )
         with self.writing() as s, s.begin():
-            return s.execute(stmt).rowcount > 0
+            return _rows(s.execute(stmt)) > 0
 
     # -- studies ------------------------------------------------------------------------------
 
@@ -456,6 +461,4 @@ class JobStore:
     def forget_workers(self, seen_before: float) -> int:
         """Delete worker rows not seen since ``seen_before``."""
         with self.writing() as s, s.begin():
-            return s.execute(
-                delete(WorkerSeen).where(WorkerSeen.last_seen < seen_before)
-            ).rowcount
+            return _rows(s.execute(delete(WorkerSeen).where(WorkerSeen.last_seen < seen_before)))
