@@ -208,6 +208,14 @@ class Settings(BaseSettings):
         description="Caches: numba kernels, reduced FE bodies (fem-<version>/) and their "
         "browser exports served by GET /fe (fe-export-<version>/)",
     )
+    result_cache_mb: float = Field(
+        256.0, ge=0.0, le=1.0e6,
+        description="Memory for result-file contents kept between requests (MB)",
+    )
+    response_cache_mb: float = Field(
+        64.0, ge=0.0, le=1.0e6,
+        description="Memory for rendered answers of finished jobs kept between requests (MB)",
+    )
     fe_wait_s: float = Field(
         3.0, ge=0.0, le=60.0,
         description="How long GET /fe waits for a running FE build before answering 202 (s)",

@@ -196,3 +196,28 @@ def test_job_fails_before_simulating_when_results_cannot_be_written(tmp_path, mo
         assert claim_and_run(job.id, ctx) == "failed"
         rec = store.get_job(job.id)
         assert "results directory not writable: read-only file system" in rec.error
+
+
+def test_deleting_a_study_on_read_only_storage_changes_nothing(make_client, tmp_path):
+    with tmpfs(tmp_path / "data") as fs:
+        client = make_client(database_url=f"sqlite:///{tmp_path / 'jobs.db'}")
+        study = client.post(API + "/studies", json={
+            "name": "s", "base": {"preset": "paper-metro", "overrides": JOB["overrides"]},
+            "speeds_kmh": [60, 80]}).json()
+        svc = client.app.state.services
+        files = []
+        for job in svc.store.list_jobs(study_id=study["id"])[0]:
+            name = f"{job.id}.h5"
+            (fs.path / "results" / name).write_bytes(b"stand-in")
+            with svc.store.engine.begin() as conn:
+                conn.execute(text("UPDATE flexride_jobs SET status='succeeded', result_file=:f "
+                                  "WHERE id=:i"), {"f": name, "i": job.id})
+            files.append(fs.path / "results" / name)
+        fs.read_only()
+        _unavailable(client.delete(f"{API}/studies/{study['id']}"), "read-only")
+        assert client.get(f"{API}/studies/{study['id']}").status_code == 200
+        assert all(f.is_file() for f in files)
+        fs.writable()
+        assert client.delete(f"{API}/studies/{study['id']}").status_code == 204
+        assert not any(f.exists() for f in files)
+        assert not list((fs.path / "results").glob(".deleting-*"))

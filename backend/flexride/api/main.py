@@ -62,7 +62,8 @@ def build_services(settings: Settings) -> Services:
     """Create the store (schema created or migrated), files, runner, submitter, reaper and the
     FE export builds."""
     store = JobStore.from_url(settings.effective_database_url, create=True)
-    files = ResultFiles(settings.results_dir)
+    files = ResultFiles(settings.results_dir,
+                        cache_bytes=int(settings.result_cache_mb * 1024 * 1024))
     runner = make_runner(settings, store)
     submitter = Submitter(store, files, runner, settings)
     return Services(settings=settings, store=store, files=files, runner=runner,

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import asdict
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from flexride.api.deps import Services
 from flexride.api.errors import Conflict, NotFound
@@ -14,6 +15,8 @@ from flexride.api.schemas import JobCreate
 from flexride.model.loading import resolve_scenario
 from flexride.settings import API_PREFIX
 from flexride.store import Job, now
+
+T = TypeVar("T")
 
 DELETING_PREFIX = ".deleting-"
 """Prefix of a result file whose job is being deleted."""
@@ -124,37 +127,59 @@ def cancel_job(svc: Services, job_id: str) -> dict[str, Any]:
 
 
 def delete_job(svc: Services, job_id: str) -> None:
-    """Delete a job's record and its result file (a running job is cancelled).
-
-    Never leaves a record without its file nor a file without its record: the file is first
-    renamed aside (a read-only results directory fails here, with nothing changed), then the
-    record is deleted (a refusing database puts the file back), then the file is removed
-    (a crash before that leaves only a ``.deleting-`` file, swept at the next start).
-    """
+    """Delete a job's record and its result file (a running job is cancelled); see
+    :func:`delete_records_and_files`."""
     job = get_job(svc, job_id)
-    aside = _set_aside(svc, job.result_file)
-    try:
-        deleted = svc.store.delete_job(job_id)
-    except BaseException:
-        if aside is not None:
-            os.replace(aside, svc.files.path(str(job.result_file)))
-        raise
-    if aside is not None:
-        aside.unlink(missing_ok=True)
+    deleted = delete_records_and_files(svc, [job.result_file],
+                                       lambda: svc.store.delete_job(job_id))
     if deleted is None:
         raise NotFound(f"no job {job_id!r}")
     if deleted.status in ("queued", "running"):
         svc.runner.cancel(job_id)
+    forget_cached(svc, [job_id])
 
 
-def _set_aside(svc: Services, name: str | None) -> Path | None:
-    """Rename result file ``name`` to ``.deleting-<name>``; None when there is no file."""
+def delete_records_and_files(svc: Services, names: list[str | None],
+                             delete_records: Callable[[], T]) -> T:
+    """Delete records and their result files without ever leaving a record without its file
+    or a file without its record: the files are first renamed aside (a read-only results
+    directory fails here, with nothing changed), then the records are deleted (a refusing
+    database puts the files back), then the files are removed (a crash before that leaves
+    only ``.deleting-`` files, swept at the next start)."""
+    aside: list[tuple[Path, Path]] = []
+    try:
+        for name in names:
+            moved = _set_aside(svc, name)
+            if moved is not None:
+                aside.append(moved)
+        result = delete_records()
+    except BaseException:
+        for original, moved in aside:
+            os.replace(moved, original)
+        raise
+    for _, moved in aside:
+        moved.unlink(missing_ok=True)
+    return result
+
+
+def forget_cached(svc: Services, job_ids: list[str]) -> None:
+    """Free what the read caches hold of deleted jobs (they would be dropped at the next
+    sweep anyway; a deleted job is never served from them)."""
+    from flexride.api.services.result_cache import forget_job
+
+    for job_id in job_ids:
+        forget_job(svc, job_id)
+
+
+def _set_aside(svc: Services, name: str | None) -> tuple[Path, Path] | None:
+    """Rename result file ``name`` to ``.deleting-<name>``: (original, moved), or None when
+    there is no file."""
     if not name or not svc.files.exists(name):
         return None
     path = svc.files.path(name)
     aside = path.with_name(f"{DELETING_PREFIX}{path.name}")
     os.replace(path, aside)
-    return aside
+    return path, aside
 
 
 def sweep_deleted(svc: Services) -> int:

@@ -101,13 +101,17 @@ def cancel_study(svc: Services, study_id: str) -> dict[str, Any]:
 
 def delete_study(svc: Services, study_id: str) -> None:
     """Delete a study, its jobs and their result files."""
-    study, jobs = svc.store.delete_study(study_id)
+    from flexride.api.services.jobs import delete_records_and_files, forget_cached
+
+    files = [j.result_file for j in svc.store.list_jobs(study_id=study_id, limit=100_000,
+                                                        offset=0)[0]]
+    study, jobs = delete_records_and_files(svc, files, lambda: svc.store.delete_study(study_id))
     if study is None:
         raise NotFound(f"no study {study_id!r}")
     for job in jobs:
         if job.status in ("queued", "running"):
             svc.runner.cancel(job.id)
-        svc.files.delete(job.result_file)
+    forget_cached(svc, [j.id for j in jobs])
 
 
 def study_presets() -> list[dict[str, Any]]:
