@@ -216,10 +216,23 @@ class MethodNotAllowed:
         return allowed or None
 
     async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
-        if scope["type"] == "http":
-            allowed = self.allowed_methods(scope)
-            if allowed is not None:
-                await reply_json(send, 405, "Method Not Allowed",
-                                 [(b"allow", ", ".join(sorted(allowed)).encode())])
-                return
-        await self.app(scope, receive, send)
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        # the routes are matched only for answers that may be wrong (404, 405), not for
+        # every request: the app answers first, and such an answer is replaced
+        replaced = False
+
+        async def guarded(message: dict) -> None:
+            nonlocal replaced
+            if message["type"] == "http.response.start" and message["status"] in (404, 405):
+                allowed = self.allowed_methods(scope)
+                if allowed is not None:
+                    replaced = True
+                    await reply_json(send, 405, "Method Not Allowed",
+                                     [(b"allow", ", ".join(sorted(allowed)).encode())])
+                    return
+            if not replaced:
+                await send(message)
+
+        await self.app(scope, receive, guarded)

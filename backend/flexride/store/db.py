@@ -60,9 +60,8 @@ def create_store_engine(url: str) -> Engine:
     if u.get_backend_name() == "sqlite":
         if u.database and u.database != ":memory:":
             Path(u.database).expanduser().parent.mkdir(parents=True, exist_ok=True)
-        engine = create_engine(
-            u, connect_args={"check_same_thread": False, "timeout": 30.0}, pool_pre_ping=True
-        )
+        # no pre-ping: a SQLite connection is a file handle, it does not go stale
+        engine = create_engine(u, connect_args={"check_same_thread": False, "timeout": 30.0})
         _sqlite_events(engine)
         return engine
     return create_engine(u, pool_pre_ping=True, pool_size=5, max_overflow=10,
