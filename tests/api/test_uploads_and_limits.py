@@ -158,8 +158,8 @@ def test_flexible_job_beyond_the_fe_limit_is_refused(sqlite_client):
 
 def test_fe_size_estimate_is_an_upper_bound_near_the_exact_count():
     """The estimate against exact counts of the paper's car body (meshed here at 0.1 m)."""
-    from flexride.fem.flexible import build_fe_model
     from flexride.fem.size import estimated_dofs
+    from flexride.fem.vehicle_models import build_fe_model
     from flexride.model.presets import load_preset
 
     vehicle = load_preset("paper-metro").vehicle
@@ -168,3 +168,20 @@ def test_fe_size_estimate_is_an_upper_bound_near_the_exact_count():
     assert exact <= est <= 1.15 * exact
     assert estimated_dofs("carbody", vehicle, 0.3) == build_fe_model(
         "carbody", vehicle, element_size=0.3)[0].n_dof
+
+
+def test_spectrogram_work_is_costed_before_computing(sqlite_client):
+    """A 6 s job at 1 kHz: a 2 s window with overlap 0.9999 would slide by one sample (about
+    4,000 slices × 1,001 bins); refused with the estimate, while the default overlap runs."""
+    from flexride.analysis.timefreq import spectrogram_cells
+    from service.svc_testkit import insert_finished_job, synthetic_results
+
+    svc = sqlite_client.app.state.services
+    job_id = insert_finished_job(svc.store, svc.files, synthetic_results(duration=6.0))
+    url = f"{API}/jobs/{job_id}/spectrogram?channel=carbody.PC.acc.z&window_s=2"
+    item = _item(sqlite_client.get(url + "&overlap=0.9999"))
+    assert item["loc"] == ["query", "overlap"] and "limit of 5,000,000" in item["msg"]
+    # the estimate: slices × one-sided bins; 2,000-sample windows one sample apart, every
+    # position that overlaps the 6,000 samples: 6,000 + 2,000 − 1 slices of 1,001 bins
+    assert spectrogram_cells(6000, 1000.0, 2.0, 0.9999) == 7999 * 1001
+    assert sqlite_client.get(url + "&overlap=0.75").status_code == 200

@@ -24,11 +24,12 @@ from flexride.analysis import (
     welch_psd,
 )
 from flexride.analysis.sperling import SPERLING_DEFAULTS, sperling_grade
+from flexride.analysis.timefreq import spectrogram_cells
 from flexride.api.deps import Services
 from flexride.api.errors import NotFound
 from flexride.api.services.decimate import decimate_indices, minmax_indices
 from flexride.api.services.jobs import finished_job
-from flexride.errors import AnalysisError
+from flexride.errors import AnalysisError, ScenarioError
 from flexride.results import POINT_FRAME
 from flexride.store import ChannelData
 
@@ -180,14 +181,26 @@ def spectrum(svc: Services, job_id: str, channels: list[str], kind: str, fmax: f
             "decimated": reduced, "channels": rows}
 
 
+MAX_SPECTROGRAM_WORK = 5_000_000
+"""Most values (time slices × frequency bins) a spectrogram request may compute (about
+80 MB of complex numbers); beyond it the request is refused before computing."""
+
+
 def spectrogram_of(svc: Services, job_id: str, channel: str, window_s: float, overlap: float,
                    fmax: float, dynamic: bool,
                    scaling: Literal["psd", "magnitude"]) -> dict[str, Any]:
     """Short-time spectrum of one channel (at most 250,000 cells: time slices are thinned)."""
     data = _read(svc, job_id, [channel])
     fs = data.sample_rate
+    window_s = min(window_s, data.time.size / fs)
+    cells = spectrogram_cells(data.time.size, fs, window_s, overlap)
+    if cells > MAX_SPECTROGRAM_WORK:
+        raise ScenarioError.at(("query", "overlap"), (
+            f"window_s = {window_s:g} s with overlap {overlap:g} computes {cells:,} values, "
+            f"beyond the limit of {MAX_SPECTROGRAM_WORK:,}; use a smaller overlap or a "
+            "shorter window"), "spectrogram")
     x, used_dynamic = _prepare(data.channels[channel], fs, dynamic)
-    sg = spectrogram(x, fs, window_s=min(window_s, x.size / fs), overlap=overlap,
+    sg = spectrogram(x, fs, window_s=window_s, overlap=overlap,
                      fmax=min(fmax, fs / 2.0), scaling=scaling, unit=data.units[channel])
     values, times = sg.values, sg.times + float(data.time[0])
     step = max(1, int(np.ceil(values.size / MAX_SPECTROGRAM_CELLS)))
