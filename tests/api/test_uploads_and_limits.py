@@ -185,3 +185,10 @@ def test_spectrogram_work_is_costed_before_computing(sqlite_client):
     # position that overlaps the 6,000 samples: 6,000 + 2,000 − 1 slices of 1,001 bins
     assert spectrogram_cells(6000, 1000.0, 2.0, 0.9999) == 7999 * 1001
     assert sqlite_client.get(url + "&overlap=0.75").status_code == 200
+
+
+def test_the_limits_are_in_the_openapi_document(make_client):
+    client = make_client(max_steps=123_456, max_output_points=42)
+    text = client.get(API + "/openapi.json").json()["info"]["description"]
+    assert "123,456 time steps" in text and "42 recorded car-body points" in text
+    assert "FLEXRIDE_MAX_RESULT_MB" in text and "FLEXRIDE_MAX_FE_DOFS" in text

@@ -159,6 +159,20 @@ def _static(app: FastAPI, settings: Settings) -> None:
             return RedirectResponse("/docs")
 
 
+def limits_text(settings: Settings) -> str:
+    """The service's bounds on requests, for the API description (markdown)."""
+    s = settings
+    return ("**Limits of this service** (422 beyond them, naming the field, the estimate and "
+            "the limit): "
+            f"{s.max_steps:,} time steps per job (`FLEXRIDE_MAX_STEPS`); "
+            f"{s.max_output_points} recorded car-body points (`FLEXRIDE_MAX_OUTPUT_POINTS`); "
+            f"{s.max_result_mb:g} MB of results (`FLEXRIDE_MAX_RESULT_MB`); FE bodies up to "
+            f"{s.max_fe_dofs:,} degrees of freedom and {s.max_fe_cutoff_hz:g} Hz "
+            "(`FLEXRIDE_MAX_FE_DOFS`, `FLEXRIDE_MAX_FE_CUTOFF_HZ`); "
+            f"{s.max_study_jobs} jobs per study (`FLEXRIDE_MAX_STUDY_JOBS`); request bodies "
+            f"and uploads up to {s.max_body_bytes:,} bytes (413, `FLEXRIDE_MAX_BODY_BYTES`).")
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
     """The flexride API application.
 
@@ -202,7 +216,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         version=__version__,
         description="Ride comfort of metro vehicles with flexible bodies on flexible track: "
         "simulation jobs, studies and their results. Mutating endpoints need "
-        "`Authorization: Bearer <token>` when the service has a token.",
+        "`Authorization: Bearer <token>` when the service has a token.\n\n"
+        + limits_text(settings),
         openapi_url=f"{API_PREFIX}/openapi.json",
         docs_url=None,  # served by _docs, without a CDN
         redoc_url=None,
