@@ -36,8 +36,9 @@ def main() -> None:
     os.environ["FLEXRIDE_CACHE_DIR"] = args.cache_dir or tempfile.mkdtemp(prefix="flexride-fem-")
 
     from flexride.fem.eigen import free_free_modes
-    from flexride.fem.flexible import build_fe_model, build_flexible_body
+    from flexride.fem.flexible import build_flexible_body
     from flexride.fem.rigid import rigid_body_vectors
+    from flexride.fem.vehicle_models import build_fe_model
     from flexride.model.presets import load_preset
 
     vehicle = load_preset("paper-metro").vehicle

@@ -20,7 +20,8 @@ from rich.console import Console
 from flexride.errors import FlexrideError
 
 if TYPE_CHECKING:
-    from flexride.fem.flexible import Kind, Method
+    from flexride.fem.reduce import Method
+    from flexride.fem.vehicle_models import Kind
 
 fe_app = typer.Typer(
     add_completion=False,
@@ -78,7 +79,7 @@ def _kind(kind: str) -> Kind:
 
 
 def _method(method: str) -> Method:
-    from flexride.fem.flexible import METHODS
+    from flexride.fem.reduce import METHODS
 
     for m in METHODS:
         if m == method:
@@ -102,9 +103,9 @@ def modes_cmd(
     try:
         from flexride.fem.classify import classify_mode, classify_plane_frame_mode
         from flexride.fem.eigen import free_free_modes
-        from flexride.fem.flexible import build_fe_model
         from flexride.fem.report import mass_summary
         from flexride.fem.rigid import rigid_body_vectors
+        from flexride.fem.vehicle_models import build_fe_model
 
         model, target = build_fe_model(_kind(kind), _vehicle(preset), element_size)
         K, M = model.assemble()
@@ -214,7 +215,7 @@ def calibrate_cmd(
 ) -> None:
     """Update car-body panel sections and mass split to hit target frequencies."""
     from flexride.fem.calibration import DEFAULT_VARIABLES, calibrate_carbody
-    from flexride.fem.flexible import carbody_params_for, carbody_target
+    from flexride.fem.vehicle_models import carbody_params_for, carbody_target
 
     t = _parse_targets(targets)
     names = tuple(v.strip() for v in variables.split(",") if v.strip()) or DEFAULT_VARIABLES

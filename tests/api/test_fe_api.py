@@ -16,7 +16,7 @@ from concurrent.futures import ThreadPoolExecutor
 import pytest
 from typer.testing import CliRunner
 
-from flexride.fe_export import ExportSpec
+from flexride.fem.export import ExportSpec
 from flexride.model.bodies import BodyModel
 from flexride.model.presets import load_preset
 from service.svc_testkit import (

@@ -7,7 +7,7 @@ import pytest
 
 from flexride.fem.calibration import calibrate_carbody, carbody_frequencies
 from flexride.fem.defaults import PAPER_TABLE1_HZ, default_carbody_params
-from flexride.fem.flexible import carbody_params_for, carbody_target
+from flexride.fem.vehicle_models import carbody_params_for, carbody_target
 
 
 def test_calibration_recovers_a_known_stiffness(vehicle):

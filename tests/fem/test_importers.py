@@ -22,9 +22,10 @@ import scipy.sparse.linalg as spla
 
 from flexride.errors import FEModelError
 from flexride.fem import optional_readers
-from flexride.fem.flexible import build_fe_model, flexible_body_from_model
+from flexride.fem.flexible import flexible_body_from_model
 from flexride.fem.importers import import_fe_model, read_dmig, read_matrix
 from flexride.fem.optional_readers import op4_directory, read_ansys_full, read_op4
+from flexride.fem.vehicle_models import build_fe_model
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from flexride.fem.eigen import solve_modes
-from flexride.fem.flexible import build_fe_model, carbody_target, frame_target
+from flexride.fem.vehicle_models import build_fe_model, carbody_target, frame_target
 
 
 @pytest.fixture(scope="module")

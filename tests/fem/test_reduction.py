@@ -8,10 +8,10 @@ import scipy.sparse.linalg as spla
 
 from flexride.errors import FEModelError
 from flexride.fem.eigen import solve_modes
-from flexride.fem.flexible import build_fe_model
 from flexride.fem.modal_body import reduced_to_modal_body
 from flexride.fem.reduction import craig_bampton, guyan, node_dofs, rigid_basis_for
 from flexride.fem.rigid import rigid_body_vectors
+from flexride.fem.vehicle_models import build_fe_model
 
 
 @pytest.fixture(scope="module")
@@ -101,7 +101,8 @@ def test_reduced_to_modal_body_rejects_a_constrained_model(frame):
 
 
 def test_guyan_and_craig_bampton_bodies_through_reduce_model(vehicle):
-    from flexride.fem.flexible import ATTACHMENTS, OUTPUTS, reduce_model
+    from flexride.fem.reduce import reduce_model
+    from flexride.fem.vehicle_models import ATTACHMENTS, OUTPUTS
 
     model, target = build_fe_model("carbody", vehicle, element_size=0.5)
     masters = list(ATTACHMENTS["carbody"]) + list(OUTPUTS["carbody"])

@@ -195,7 +195,7 @@ def services(client: Any) -> Any:
 
 
 def fake_fe_export(spec: Any, dest: str) -> dict[str, Any]:
-    """Stand-in for :func:`flexride.fe_export.run_export_job`: writes a one-quad export that
+    """Stand-in for :func:`flexride.fem.export.run_export_job`: writes a one-quad export that
     follows the real export's layout (and its ``model`` block) at once."""
     import json
 

@@ -18,7 +18,10 @@ Modules (definitions, defaults and standard editions in ``docs/analysis.md``):
 * :mod:`~flexride.analysis.quasistatic` — quasi-static / dynamic split on curves;
 * :mod:`~flexride.analysis.safety` — Q/P, ΔP/P, ΣY with their limits;
 * :mod:`~flexride.analysis.comfort_map` — a comfort measure over thousands of nodes;
-* :mod:`~flexride.analysis.summary` — :func:`analyze`, :class:`Summary`, rich tables.
+* :mod:`~flexride.analysis.pipeline` — :func:`analyze`, every analysis of a run;
+* :mod:`~flexride.analysis.summary` — :class:`Summary`, what :func:`analyze` returns (JSON form);
+* :mod:`~flexride.analysis.tables` — rich tables of a summary;
+* :mod:`~flexride.analysis.regression` — a summary quantity against speed over several runs.
 """
 
 from __future__ import annotations
@@ -49,12 +52,14 @@ from flexride.analysis.iso2631 import (
     vibration_total_value,
     weighted_rms,
 )
+from flexride.analysis.pipeline import analyze
 from flexride.analysis.quasistatic import (
     QUASISTATIC_DEFAULTS,
     QuasiStaticSplit,
     remove_quasistatic,
     split_quasistatic,
 )
+from flexride.analysis.regression import regress_summaries
 from flexride.analysis.safety import (
     SAFETY_DEFAULTS,
     SAFETY_LIMITS,
@@ -97,11 +102,8 @@ from flexride.analysis.summary import (
     DirectionSummary,
     PointSummary,
     Summary,
-    analyze,
-    regress_summaries,
-    safety_table,
-    summary_table,
 )
+from flexride.analysis.tables import safety_table, summary_table
 from flexride.analysis.timefreq import Scalogram, Spectrogram, scalogram, spectrogram
 from flexride.analysis.weighting import (
     WEIGHTINGS,

@@ -132,13 +132,7 @@ def comfort_map(
     fs = check_rate(fs)
     a = check_signal(acc, fs, name="node accelerations", ndim=(2,), method="a comfort map")
     n_pts, n = a.shape
-    coords = None
-    if coordinates is not None:
-        coords = np.asarray(coordinates, dtype=np.float64)
-        if coords.ndim != 2 or coords.shape[0] != n_pts:
-            raise AnalysisError(
-                f"coordinates must have shape (n_points={n_pts}, 2 or 3), got {coords.shape}"
-            )
+    coords = _coordinates(coordinates, n_pts)
     if measure == "sperling" and d == "x":
         raise AnalysisError("the Sperling index is defined for the vertical and lateral directions")
     wname = weighting or ("Wb" if d == "z" else "Wd")
@@ -147,45 +141,96 @@ def comfort_map(
     method = ""
     params: dict[str, Any] = {}
     for r0 in range(0, n_pts, rows):
-        blk = a[r0:r0 + rows]
-        if measure == "sperling":
-            res = sperling(blk, fs, "vertical" if d == "z" else "lateral", form=form, **kwargs)
-            values[r0:r0 + rows] = res.value
-            method, params = res.method, res.parameters
-        elif measure == "rms":
-            values[r0:r0 + rows] = np.sqrt(np.mean(blk * blk, axis=-1))
-            method = "unweighted rms"
-        elif measure == "peak":
-            values[r0:r0 + rows] = np.max(np.abs(blk), axis=-1)
-            method = "largest absolute acceleration"
-        else:
-            ww = "Wb" if measure == "cc_max" and d == "z" else (
-                "Wd" if measure == "cc_max" else wname)
-            aw = apply_weighting(blk, fs, ww)
-            if measure == "weighted_rms":
-                values[r0:r0 + rows] = np.sqrt(np.mean(aw * aw, axis=-1))
-                method = f"ISO 2631 {ww}-weighted rms (iir filter)"
-            elif measure == "vdv":
-                values[r0:r0 + rows] = (np.sum(aw**4, axis=-1) / fs) ** 0.25
-                method = f"ISO 2631-1 VDV of the {ww}-weighted acceleration"
-            elif measure == "mtvv":
-                if n < round(fs):
-                    raise AnalysisError("MTVV needs a record of at least 1 s")
-                _, rr = _window_rms(aw, fs, round(fs), 1)
-                values[r0:r0 + rows] = rr.max(axis=-1)
-                method = (f"ISO 2631-1 MTVV (1 s linear running rms) of the {ww}-weighted "
-                          "acceleration")
-            else:  # cc_max
-                if n < round(5 * fs):
-                    raise AnalysisError(
-                        "EN 12299 continuous comfort needs a record of at least 5 s")
-                _, cc = _window_rms(aw, fs, round(5 * fs), round(fs))
-                values[r0:r0 + rows] = cc.max(axis=-1)
-                method = f"EN 12299:2009 maximum continuous comfort C_c ({ww}, 5 s every 1 s)"
-            params = {"weighting": ww}
+        values[r0:r0 + rows], method, params = _block_values(
+            a[r0:r0 + rows], fs, measure, d, form, wname, params, kwargs)
     unit = {"sperling": "-", "vdv": "m/s^1.75"}.get(measure, "m/s^2")
     i = int(np.argmax(values))
     grades = [sperling_grade(v) for v in values] if measure == "sperling" else None
     return ComfortMap(values=values, measure=measure, direction=d, unit=unit, method=method,
                       grades=grades, coordinates=coords, max_value=float(values[i]), argmax=i,
                       parameters=params)
+
+
+def _coordinates(coordinates: np.ndarray | None, n_pts: int) -> np.ndarray | None:
+    """Node coordinates (m) as a float array of ``n_pts`` rows, or None when not given.
+
+    Raises
+    ------
+    AnalysisError
+        If the array is not two-dimensional with one row per node.
+    """
+    if coordinates is None:
+        return None
+    coords = np.asarray(coordinates, dtype=np.float64)
+    if coords.ndim != 2 or coords.shape[0] != n_pts:
+        raise AnalysisError(
+            f"coordinates must have shape (n_points={n_pts}, 2 or 3), got {coords.shape}"
+        )
+    return coords
+
+
+def _block_values(
+    blk: np.ndarray,
+    fs: float,
+    measure: str,
+    d: str,
+    form: SperlingForm,
+    wname: str,
+    params: dict[str, Any],
+    kwargs: dict[str, Any],
+) -> tuple[np.ndarray, str, dict[str, Any]]:
+    """The measure at each node of one block of rows.
+
+    Parameters
+    ----------
+    blk : numpy.ndarray
+        Accelerations (m/s²) of the block's nodes, ``(rows, n_samples)``.
+    fs : float
+        Sample rate (Hz).
+    measure, d, form : str
+        Measure, direction (``x``, ``y``, ``z``) and Sperling form, as for :func:`comfort_map`.
+    wname : str
+        ISO weighting of ``weighted_rms``, ``mtvv`` and ``vdv``.
+    params : dict
+        Parameters so far (returned unchanged by measures without parameters).
+    kwargs : dict
+        Passed to the Sperling function.
+
+    Returns
+    -------
+    values : numpy.ndarray
+        One value per node (unit of the measure, see :func:`comfort_map`).
+    method : str
+        What produced the values.
+    params : dict
+        Parameters of the method.
+    """
+    n = blk.shape[-1]
+    if measure == "sperling":
+        res = sperling(blk, fs, "vertical" if d == "z" else "lateral", form=form, **kwargs)
+        return np.asarray(res.value), res.method, res.parameters
+    if measure == "rms":
+        return np.sqrt(np.mean(blk * blk, axis=-1)), "unweighted rms", params
+    if measure == "peak":
+        return np.max(np.abs(blk), axis=-1), "largest absolute acceleration", params
+    ww = "Wb" if measure == "cc_max" and d == "z" else ("Wd" if measure == "cc_max" else wname)
+    aw = apply_weighting(blk, fs, ww)
+    if measure == "weighted_rms":
+        values = np.sqrt(np.mean(aw * aw, axis=-1))
+        method = f"ISO 2631 {ww}-weighted rms (iir filter)"
+    elif measure == "vdv":
+        values = (np.sum(aw**4, axis=-1) / fs) ** 0.25
+        method = f"ISO 2631-1 VDV of the {ww}-weighted acceleration"
+    elif measure == "mtvv":
+        if n < round(fs):
+            raise AnalysisError("MTVV needs a record of at least 1 s")
+        _, rr = _window_rms(aw, fs, round(fs), 1)
+        values = rr.max(axis=-1)
+        method = f"ISO 2631-1 MTVV (1 s linear running rms) of the {ww}-weighted acceleration"
+    else:  # cc_max
+        if n < round(5 * fs):
+            raise AnalysisError("EN 12299 continuous comfort needs a record of at least 5 s")
+        _, cc = _window_rms(aw, fs, round(5 * fs), round(fs))
+        values = cc.max(axis=-1)
+        method = f"EN 12299:2009 maximum continuous comfort C_c ({ww}, 5 s every 1 s)"
+    return values, method, {"weighting": ww}

@@ -260,6 +260,42 @@ def mean_comfort(
     given = {d: a for d, a in (("x", x), ("y", y), ("z", z)) if a is not None}
     if not given:
         raise AnalysisError("mean comfort needs at least one of the x, y, z accelerations")
+    sig, n = _comfort_weighted(given, fs, block_s, method, weighted)
+    nb = max(1, round(block_s * fs))
+    n_blocks = n // nb
+    if n_blocks < 1:
+        raise AnalysisError(f"mean comfort: record shorter than one {block_s:g} s block")
+    block_rms = {d: np.sqrt(np.mean(s[: n_blocks * nb].reshape(n_blocks, nb) ** 2, axis=1))
+                 for d, s in sig.items()}
+    per_window = max(1, round(window_s / block_s))
+    short = n_blocks < per_window
+    if short:
+        groups = [(0, n_blocks)]
+    else:
+        groups = [(i, i + per_window) for i in range(0, n_blocks - per_window + 1, per_window)]
+    windows = [_nmv_window(block_rms, b0, b1, nb, fs) for b0, b1 in groups]
+    value = max(w["n_mv"] for w in windows)
+    unused = (n - groups[-1][1] * nb) / fs
+    desc = _nmv_description(given, method, block_s, window_s, n_blocks, per_window, short)
+    return MeanComfort(value=value, scale=nmv_scale(value), windows=windows, short_run=short,
+                       directions_used=sorted(given), unused_s=unused, block_s=block_s,
+                       window_s=window_s, method=desc,
+                       parameters={"filter": method, "n_blocks": n_blocks})
+
+
+def _comfort_weighted(given: dict[str, np.ndarray], fs: float, block_s: float,
+                      method: WeightingMethod,
+                      weighted: dict[str, np.ndarray] | None) -> tuple[dict[str, np.ndarray], int]:
+    """The comfort-weighted floor accelerations (m/s²; Wd for x and y, Wb for z) by direction,
+    and their common number of samples.
+
+    Directions found in ``weighted`` are taken from there instead of being filtered.
+
+    Raises
+    ------
+    AnalysisError
+        A record shorter than one block of ``block_s`` s, or records of different lengths.
+    """
     sig: dict[str, np.ndarray] = {}
     n = None
     for d, a in given.items():
@@ -273,27 +309,24 @@ def mean_comfort(
         else:
             sig[d] = apply_weighting(a, fs, _weighting_for(d)[1], method=method)
     assert n is not None
-    nb = max(1, round(block_s * fs))
-    n_blocks = n // nb
-    if n_blocks < 1:
-        raise AnalysisError(f"mean comfort: record shorter than one {block_s:g} s block")
-    block_rms = {d: np.sqrt(np.mean(s[: n_blocks * nb].reshape(n_blocks, nb) ** 2, axis=1))
-                 for d, s in sig.items()}
-    per_window = max(1, round(window_s / block_s))
-    short = n_blocks < per_window
-    if short:
-        groups = [(0, n_blocks)]
-    else:
-        groups = [(i, i + per_window) for i in range(0, n_blocks - per_window + 1, per_window)]
-    windows = []
-    for b0, b1 in groups:
-        p = {d: float(_p95(block_rms[d][b0:b1])) if d in block_rms else 0.0 for d in "xyz"}
-        nmv = 6.0 * math.sqrt(p["x"] ** 2 + p["y"] ** 2 + p["z"] ** 2)
-        windows.append({"start_s": b0 * nb / fs, "end_s": b1 * nb / fs, "n_blocks": b1 - b0,
-                        "a_xp95": p["x"], "a_yp95": p["y"], "a_zp95": p["z"], "n_mv": nmv})
-    value = max(w["n_mv"] for w in windows)
-    unused = (n - groups[-1][1] * nb) / fs
-    used = sorted(given)
+    return sig, n
+
+
+def _nmv_window(block_rms: dict[str, np.ndarray], b0: int, b1: int, nb: int,
+                fs: float) -> dict[str, Any]:
+    """N_MV of one evaluation window, blocks ``b0`` to ``b1`` (exclusive) of ``nb`` samples:
+    start and end (s), number of blocks, the 95th percentiles a_XP95, a_YP95, a_ZP95 of the
+    block rms values (m/s²; 0 for a missing direction) and ``n_mv``."""
+    p = {d: float(_p95(block_rms[d][b0:b1])) if d in block_rms else 0.0 for d in "xyz"}
+    nmv = 6.0 * math.sqrt(p["x"] ** 2 + p["y"] ** 2 + p["z"] ** 2)
+    return {"start_s": b0 * nb / fs, "end_s": b1 * nb / fs, "n_blocks": b1 - b0,
+            "a_xp95": p["x"], "a_yp95": p["y"], "a_zp95": p["z"], "n_mv": nmv}
+
+
+def _nmv_description(given: dict[str, np.ndarray], method: WeightingMethod, block_s: float,
+                     window_s: float, n_blocks: int, per_window: int, short: bool) -> str:
+    """The ``method`` text of a mean comfort: formula, filter, block (s) and window (min)
+    lengths, and whether the run was short or directions were missing."""
     missing = [d for d in "xyz" if d not in given]
     desc = (f"EN 12299:2009 mean comfort, standard method: N_MV = 6·√(a_XP95² + a_YP95² + "
             f"a_ZP95²) (Wd x/y, Wb z, {method} filter), {block_s:g} s blocks, "
@@ -303,7 +336,4 @@ def mean_comfort(
                  "whole run")
     if missing:
         desc += f"; missing direction(s) {', '.join(missing)} taken as 0"
-    return MeanComfort(value=value, scale=nmv_scale(value), windows=windows, short_run=short,
-                       directions_used=used, unused_s=unused, block_s=block_s,
-                       window_s=window_s, method=desc,
-                       parameters={"filter": method, "n_blocks": n_blocks})
+    return desc

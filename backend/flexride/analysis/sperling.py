@@ -258,53 +258,19 @@ def sperling_spectral(
     """
     direction = _direction(direction)
     fs = check_rate(fs)
-    lo, hi = (float(b) for b in band_hz)
-    if not (0.0 < lo < hi):
-        raise AnalysisError(f"Sperling band must satisfy 0 < low < high (Hz), got {band_hz!r}")
-    check_nyquist(fs, hi, f"the Sperling band up to {hi:g} Hz")
-    if not 0.0 <= overlap < 1.0:
-        raise AnalysisError(f"segment overlap must be in [0, 1), got {overlap!r}")
-    if averaging not in ("power", "mean", "max"):
-        raise AnalysisError(f"averaging must be 'power', 'mean' or 'max', got {averaging!r}")
+    lo, hi = _check_spectral_options(fs, overlap, averaging, band_hz)
     x = check_signal(x, fs, name="acceleration", min_duration=segment_s,
                      method=f"the spectral Sperling index ({segment_s:g} s segments)")
     seg = round(segment_s * fs)
     if seg < 8:
         raise AnalysisError(f"segment of {segment_s:g} s has only {seg} samples at {fs:g} Hz")
     hop = max(1, seg - round(overlap * seg))
-    freqs = sp_fft.rfftfreq(seg, 1.0 / fs)
-    tol = 1e-9 * fs
-    sel = (freqs >= lo - tol) & (freqs <= hi + tol) & (freqs > 0.0)
-    if not np.any(sel):
-        raise AnalysisError(
-            f"no spectral line in the band {lo:g}–{hi:g} Hz with {segment_s:g} s segments"
-        )
-    f_sel = freqs[sel]
-    factor = frequency_correction(f_sel, direction) / f_sel
+    k_idx, factor = _band_lines(seg, fs, lo, hi, direction, segment_s)
     win = signal.get_window(window, seg, fftbins=True)
-    # mean-square of line k (one-sided) = 2|X_k|² / (seg Σw²); peak amplitude = √2 × rms
-    scale = 2.0 / np.sqrt(seg * np.sum(win**2))
-
     one_d = x.ndim == 1
     x2 = x[np.newaxis, :] if one_d else x
     segs = sliding_window_view(x2, seg, axis=-1)[:, ::hop, :]
-    k_idx = np.flatnonzero(sel)
-    # process rows in blocks to bound memory (rows × segments × seg samples)
-    rows_per_block = max(1, int(4_000_000 // max(1, segs.shape[1] * seg)))
-    seg_w = np.empty((x2.shape[0], segs.shape[1]))
-    w_val = np.empty(x2.shape[0])
-    for r0 in range(0, x2.shape[0], rows_per_block):
-        block = segs[r0:r0 + rows_per_block]
-        block = block - block.mean(axis=-1, keepdims=True)
-        spec = sp_fft.rfft(block * win, axis=-1)[..., k_idx]
-        amp2 = (scale * np.abs(spec)) ** 2  # (rows, segments, lines), (m/s²)²
-        seg_w[r0:r0 + rows_per_block] = _index_from_lines(np.sqrt(amp2), factor)
-        if averaging == "power":
-            w_val[r0:r0 + rows_per_block] = _index_from_lines(np.sqrt(amp2.mean(axis=1)), factor)
-    if averaging == "mean":
-        w_val = seg_w.mean(axis=1)
-    elif averaging == "max":
-        w_val = seg_w.max(axis=1)
+    seg_w, w_val = _segment_indices(segs, win, k_idx, factor, averaging)
 
     value: float | np.ndarray = float(w_val[0]) if one_d else w_val
     seg_values = seg_w[0] if one_d else seg_w
@@ -318,6 +284,95 @@ def sperling_spectral(
     return SperlingResult(value=value, direction=direction, form="spectral",
                           grade=_grade_of(value), method=method, parameters=params,
                           segment_values=seg_values)
+
+
+def _check_spectral_options(fs: float, overlap: float, averaging: str,
+                            band_hz: tuple[float, float]) -> tuple[float, float]:
+    """The band edges (Hz) of the spectral form, after checking the band against the sample
+    rate ``fs`` (Hz), the segment overlap and the averaging.
+
+    Raises
+    ------
+    AnalysisError
+        A band not satisfying 0 < low < high ≤ fs/2, an overlap outside [0, 1) or an unknown
+        averaging.
+    """
+    lo, hi = (float(b) for b in band_hz)
+    if not (0.0 < lo < hi):
+        raise AnalysisError(f"Sperling band must satisfy 0 < low < high (Hz), got {band_hz!r}")
+    check_nyquist(fs, hi, f"the Sperling band up to {hi:g} Hz")
+    if not 0.0 <= overlap < 1.0:
+        raise AnalysisError(f"segment overlap must be in [0, 1), got {overlap!r}")
+    if averaging not in ("power", "mean", "max"):
+        raise AnalysisError(f"averaging must be 'power', 'mean' or 'max', got {averaging!r}")
+    return lo, hi
+
+
+def _band_lines(seg: int, fs: float, lo: float, hi: float, direction: str,
+                segment_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """The spectral lines of a segment of ``seg`` samples at ``fs`` Hz that lie in the band
+    ``lo``–``hi`` Hz (inclusive): their indices and F(f)/f (1/Hz).
+
+    Raises
+    ------
+    AnalysisError
+        If no line lies in the band.
+    """
+    freqs = sp_fft.rfftfreq(seg, 1.0 / fs)
+    tol = 1e-9 * fs
+    sel = (freqs >= lo - tol) & (freqs <= hi + tol) & (freqs > 0.0)
+    if not np.any(sel):
+        raise AnalysisError(
+            f"no spectral line in the band {lo:g}–{hi:g} Hz with {segment_s:g} s segments"
+        )
+    f_sel = freqs[sel]
+    return np.flatnonzero(sel), frequency_correction(f_sel, direction) / f_sel
+
+
+def _segment_indices(segs: np.ndarray, win: np.ndarray, k_idx: np.ndarray, factor: np.ndarray,
+                     averaging: str) -> tuple[np.ndarray, np.ndarray]:
+    """Sperling indices of every segment and of every record.
+
+    Parameters
+    ----------
+    segs : numpy.ndarray
+        ``(records, segments, samples)`` view of the records (m/s²).
+    win : numpy.ndarray
+        Window of a segment.
+    k_idx : numpy.ndarray
+        Indices of the spectral lines in the band.
+    factor : numpy.ndarray
+        F(f)/f (1/Hz) of those lines.
+    averaging : {"power", "mean", "max"}
+        How the segments combine.
+
+    Returns
+    -------
+    seg_w : numpy.ndarray
+        ``(records, segments)`` index of each segment (-).
+    w_val : numpy.ndarray
+        ``(records,)`` index of each record (-).
+    """
+    n_rows, n_segs, seg = segs.shape
+    # mean-square of line k (one-sided) = 2|X_k|² / (seg Σw²); peak amplitude = √2 × rms
+    scale = 2.0 / np.sqrt(seg * np.sum(win**2))
+    # process rows in blocks to bound memory (rows × segments × seg samples)
+    rows_per_block = max(1, int(4_000_000 // max(1, n_segs * seg)))
+    seg_w = np.empty((n_rows, n_segs))
+    w_val = np.empty(n_rows)
+    for r0 in range(0, n_rows, rows_per_block):
+        block = segs[r0:r0 + rows_per_block]
+        block = block - block.mean(axis=-1, keepdims=True)
+        spec = sp_fft.rfft(block * win, axis=-1)[..., k_idx]
+        amp2 = (scale * np.abs(spec)) ** 2  # (rows, segments, lines), (m/s²)²
+        seg_w[r0:r0 + rows_per_block] = _index_from_lines(np.sqrt(amp2), factor)
+        if averaging == "power":
+            w_val[r0:r0 + rows_per_block] = _index_from_lines(np.sqrt(amp2.mean(axis=1)), factor)
+    if averaging == "mean":
+        w_val = seg_w.mean(axis=1)
+    elif averaging == "max":
+        w_val = seg_w.max(axis=1)
+    return seg_w, w_val
 
 
 def sperling_filter(

@@ -2,12 +2,18 @@
 
 Public entry points:
 
-* :func:`flexride.fem.flexible.build_flexible_body` — a reduced flexible body (ModalBody) for
-  the solver, cached on disk;
+* :func:`flexride.fem.flexible.build_flexible_body` — a reduced flexible body
+  (:class:`~flexride.fem.flexible_body.FlexibleBody`) for the solver, cached on disk
+  (:mod:`flexride.fem.body_cache`); :func:`~flexride.fem.flexible.flexible_body_from_model`
+  the same for any FE model;
 * :func:`flexride.fem.modal_body.reduced_to_modal_body` — any (reduced) M, K to a ModalBody;
 * :func:`flexride.fem.carbody.build_carbody`, :func:`flexride.fem.frame.build_frame` — the
-  parametric FE models;
+  parametric FE models; :func:`flexride.fem.vehicle_models.build_fe_model` — those of a
+  vehicle, mass-matched to its parameters;
 * :mod:`flexride.fem.reduction` — Guyan, Craig–Bampton and modal truncation;
+  :func:`flexride.fem.reduce.reduce_model` — one of them applied to a model, with its report;
+* :mod:`flexride.fem.export` — mesh and mode shapes for the browser (``flexride fe export``,
+  the service's exports);
 * :mod:`flexride.fem.importers` — external M and K (MatrixMarket, ANSYS HBMAT and .full, Nastran
   DMIG and OP4);
 * :mod:`flexride.fem.calibration` — model updating against target frequencies.

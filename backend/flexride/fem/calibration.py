@@ -189,6 +189,74 @@ def calibrate_carbody(
     -------
     CalibrationResult
     """
+    t = _check_targets(targets_hz, variables)
+    if base is None:
+        from flexride.fem.defaults import default_carbody_params
+
+        base = default_carbody_params()
+    names = list(variables)
+    x0, lo, hi = _start_values(base, names)
+    z0 = np.log(x0)
+    t_start = time.perf_counter()
+    evaluate = _Evaluations(base, names, target, element_size, t.size, progress)
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        f = evaluate(z)
+        return np.concatenate([f / t - 1.0, regularisation * (z - z0)])
+
+    res = least_squares(residual, z0, bounds=(np.log(lo), np.log(hi)), x_scale=1.0,
+                        diff_step=0.03, max_nfev=max(1, max_evaluations // (len(names) + 1)),
+                        xtol=1e-4, ftol=1e-5)
+    z_best = res.x
+    f_best = evaluate(z_best)
+    x_best = np.exp(z_best)
+    err = f_best / t - 1.0
+    p_best = base.with_values(**dict(zip(names, map(float, x_best), strict=False)))
+    return CalibrationResult(
+        targets_hz=t.tolist(),
+        frequencies_hz=[float(v) for v in f_best],
+        errors=[float(v) for v in err],
+        classification=_mode_names(p_best, target, element_size, t.size),
+        values={n: float(v) for n, v in zip(names, x_best, strict=False)},
+        initial={n: float(v) for n, v in zip(names, x0, strict=False)},
+        bounds={n: BOUNDS[n] for n in names},
+        at_bound=_at_bound(names, x_best, lo, hi),
+        n_evaluations=len(evaluate.history),
+        seconds=time.perf_counter() - t_start,
+        element_size=float(element_size),
+        success=bool(np.all(np.abs(err) <= tolerance)),
+        tolerance=float(tolerance),
+        history=evaluate.history,
+    )
+
+
+def _start_values(base: CarBodyParams, names: list[str]) -> tuple[np.ndarray, np.ndarray,
+                                                                  np.ndarray]:
+    """Starting values of the variables ``names`` (from ``base``, moved just inside their
+    bounds) and their lower and upper bounds (SI units)."""
+    x0 = np.array([getattr(base, v) for v in names], dtype=float)
+    lo = np.array([BOUNDS[v][0] for v in names])
+    hi = np.array([BOUNDS[v][1] for v in names])
+    return np.clip(x0, lo * 1.0001, hi * 0.9999), lo, hi
+
+
+def _at_bound(names: list[str], x: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> list[str]:
+    """The variables whose values ``x`` are within 0.1 % of a bound."""
+    return [
+        n
+        for n, v, a, b in zip(names, x, lo, hi, strict=False)
+        if v <= a * 1.001 or v >= b * 0.999
+    ]
+
+
+def _check_targets(targets_hz: Sequence[float], variables: Sequence[str]) -> np.ndarray:
+    """The target frequencies (Hz) as an array, after checking them and the variable names.
+
+    Raises
+    ------
+    FEModelError
+        Targets that are not positive, finite and ascending, or unknown variables.
+    """
     t = np.asarray(targets_hz, dtype=float)
     if t.size == 0 or np.any(~np.isfinite(t)) or np.any(t <= 0):
         raise FEModelError("target frequencies must be positive numbers")
@@ -197,78 +265,51 @@ def calibrate_carbody(
     unknown = [v for v in variables if v not in BOUNDS]
     if unknown:
         raise FEModelError(f"unknown calibration variables {unknown}; use {sorted(BOUNDS)}")
-    if base is None:
-        from flexride.fem.defaults import default_carbody_params
+    return t
 
-        base = default_carbody_params()
-    names = list(variables)
-    x0 = np.array([getattr(base, v) for v in names], dtype=float)
-    lo = np.array([BOUNDS[v][0] for v in names])
-    hi = np.array([BOUNDS[v][1] for v in names])
-    x0 = np.clip(x0, lo * 1.0001, hi * 0.9999)
-    z0 = np.log(x0)
-    history: list[dict] = []
-    t_start = time.perf_counter()
-    memo: dict[tuple, np.ndarray] = {}
 
-    def evaluate(z: np.ndarray) -> np.ndarray:
+class _Evaluations:
+    """The first elastic frequencies (Hz) of the car body at the log-values ``z`` of the
+    calibration variables, each point evaluated once (remembered at 12 decimals of ``z``).
+
+    Attributes
+    ----------
+    history : list of dict
+        Every FE evaluation: ``values`` of the variables (SI) and ``frequencies`` (Hz).
+    """
+
+    def __init__(self, base: CarBodyParams, names: list[str], target: InertiaTarget,
+                 element_size: float, n: int,
+                 progress: Callable[[int, np.ndarray], None] | None) -> None:
+        self.base, self.names, self.target = base, names, target
+        self.element_size, self.n, self.progress = element_size, n, progress
+        self.history: list[dict] = []
+        self._memo: dict[tuple, np.ndarray] = {}
+
+    def __call__(self, z: np.ndarray) -> np.ndarray:
         key = tuple(np.round(z, 12))
-        if key in memo:
-            return memo[key]
+        if key in self._memo:
+            return self._memo[key]
         x = np.exp(z)
-        p = base.with_values(**dict(zip(names, map(float, x), strict=False)))
-        f, _, _ = carbody_frequencies(p, target, element_size, t.size)
-        memo[key] = f
-        history.append(
-            {"values": dict(zip(names, map(float, x), strict=False)), "frequencies": f.tolist()}
+        p = self.base.with_values(**dict(zip(self.names, map(float, x), strict=False)))
+        f, _, _ = carbody_frequencies(p, self.target, self.element_size, self.n)
+        self._memo[key] = f
+        self.history.append(
+            {"values": dict(zip(self.names, map(float, x), strict=False)),
+             "frequencies": f.tolist()}
         )
-        if progress is not None:
-            progress(len(history), f)
+        if self.progress is not None:
+            self.progress(len(self.history), f)
         return f
 
-    def residual(z: np.ndarray) -> np.ndarray:
-        f = evaluate(z)
-        return np.concatenate([f / t - 1.0, regularisation * (z - z0)])
 
-    res = least_squares(
-        residual,
-        z0,
-        bounds=(np.log(lo), np.log(hi)),
-        x_scale=1.0,
-        diff_step=0.03,
-        max_nfev=max(1, max_evaluations // (len(names) + 1)),
-        xtol=1e-4,
-        ftol=1e-5,
-    )
-    z_best = res.x
-    f_best = evaluate(z_best)
-    x_best = np.exp(z_best)
-    err = f_best / t - 1.0
-    p_best = base.with_values(**dict(zip(names, map(float, x_best), strict=False)))
-    _, model, modes = carbody_frequencies(p_best, target, element_size, t.size)
+def _mode_names(params: CarBodyParams, target: InertiaTarget, element_size: float,
+                n: int) -> list[str]:
+    """Names of the first ``n`` elastic modes of the car body with ``params`` (element size
+    in m)."""
+    _, model, modes = carbody_frequencies(params, target, element_size, n)
     _, M = model.assemble()
-    cls = [
+    return [
         classify_mode(modes.shapes[:, 6 + k], M, model.nodes, model.node_region, model.region_names)
-        for k in range(t.size)
+        for k in range(n)
     ]
-    at_bound = [
-        n
-        for n, x, a, b in zip(names, x_best, lo, hi, strict=False)
-        if x <= a * 1.001 or x >= b * 0.999
-    ]
-    return CalibrationResult(
-        targets_hz=t.tolist(),
-        frequencies_hz=[float(v) for v in f_best],
-        errors=[float(v) for v in err],
-        classification=cls,
-        values={n: float(v) for n, v in zip(names, x_best, strict=False)},
-        initial={n: float(v) for n, v in zip(names, x0, strict=False)},
-        bounds={n: BOUNDS[n] for n in names},
-        at_bound=at_bound,
-        n_evaluations=len(history),
-        seconds=time.perf_counter() - t_start,
-        element_size=float(element_size),
-        success=bool(np.all(np.abs(err) <= tolerance)),
-        tolerance=float(tolerance),
-        history=history,
-    )

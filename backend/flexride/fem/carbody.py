@@ -24,7 +24,7 @@ from flexride.fem.massmatch import (
     groups_to_point_masses,
     solve_group_masses,
 )
-from flexride.fem.meshing import NodeRegistry, mesh_lines
+from flexride.fem.meshing import ElementLists, NodeRegistry, mesh_lines
 from flexride.fem.model import FEModel
 from flexride.fem.pyfe3d_adapter import ALUMINIUM, BeamSection, Mesh, ShellSection, assemble
 from flexride.fem.rigid import mass_properties
@@ -99,7 +99,62 @@ def _roof_z(p: CarBodyParams, y: np.ndarray | float) -> np.ndarray:
 
 
 def _box(w, h, t, scale):
+    """Aluminium box section ``w`` × ``h`` with wall ``t`` (m), stiffness scaled by ``scale``."""
     return BeamSection.box(w, h, t, ALUMINIUM).scaled(scale)
+
+
+#: Shell groups (index = section of :func:`_shell_sections`).
+SHELL_GROUPS = ("floor", "side_wall", "roof", "end_wall")
+_G_FLOOR, _G_WALL, _G_ROOF, _G_END = range(4)
+#: Beam groups (index = section of :func:`_beam_sections`).
+BEAM_GROUPS = (
+    "side_sill",
+    "cant_rail",
+    "underframe_longitudinal",
+    "end_sill",
+    "opening_frame",
+    "bolster",
+    "bolster_web",
+)
+_B_SILL, _B_CANT, _B_LONG, _B_END, _B_FRAME, _B_BOLSTER, _B_WEB = range(7)
+
+
+@dataclass(frozen=True)
+class _Grid:
+    """Mesh lines of the car body (m) and the lines the beams and points sit on.
+
+    Attributes
+    ----------
+    xs : numpy.ndarray
+        x of the cross-sections, through the body centre and the bogie centres.
+    yl : numpy.ndarray
+        y of the floor and roof lines, through the centre line and the air springs.
+    zl : numpy.ndarray
+        z of the side-wall lines, floor to eaves.
+    zroof : numpy.ndarray
+        Roof height at each ``yl`` (the eaves at the ends).
+    j_air : tuple of int
+        Indices in ``yl`` of the left and right air springs.
+    """
+
+    xs: np.ndarray
+    yl: np.ndarray
+    zl: np.ndarray
+    zroof: np.ndarray
+    j_air: tuple[int, int]
+
+
+@dataclass(frozen=True)
+class _Panels:
+    """Node indices of the panel grids: ``floor`` and ``roof`` (x, y), ``wall_left`` and
+    ``wall_right`` (x, z), ``end_front`` and ``end_rear`` (y, z)."""
+
+    floor: np.ndarray
+    wall_left: np.ndarray
+    wall_right: np.ndarray
+    roof: np.ndarray
+    end_front: np.ndarray
+    end_rear: np.ndarray
 
 
 def build_carbody(
@@ -127,52 +182,84 @@ def build_carbody(
     """
     p = params
     h = float(element_size)
+    grid = _grid(p, h)
+    reg = NodeRegistry()
+    panels = _panel_nodes(reg, p, grid)
+    openings = _openings(p, grid)
+    el = ElementLists()
+    _add_shells(el, reg, p, grid, panels, openings)
+    _add_frame_beams(el, grid, panels, openings)
+    named = _add_bolsters(el, reg, p, grid, panels)
+    grid_names = _add_output_nodes(named, p, grid, panels)
+    mesh = Mesh(
+        nodes=reg.array(),
+        quads=np.asarray(el.quads, dtype=np.int64),
+        quad_group=np.asarray(el.quad_group, dtype=np.int64),
+        beams=np.asarray(el.beams, dtype=np.int64),
+        beam_group=np.asarray(el.beam_group, dtype=np.int64),
+        beam_vxy=np.asarray(el.beam_vxy, dtype=float),
+    )
+    model = FEModel(
+        name="carbody",
+        mesh=mesh,
+        shell_sections=_shell_sections(p),
+        beam_sections=_beam_sections(p.beam_scale),
+        shell_group_names=list(SHELL_GROUPS),
+        beam_group_names=list(BEAM_GROUPS),
+        named_nodes=named,
+        node_region=np.asarray(reg.region, dtype=np.int64),
+        region_names=list(REGIONS),
+        info={"params": p.to_dict(), "element_size": h, "floor_grid": grid_names},
+    )
+    if target is not None:
+        _add_nonstructural_mass(model, p, target)
+    return compact(model)
+
+
+def _grid(p: CarBodyParams, h: float) -> _Grid:
+    """Mesh lines at most ``h`` m apart: x through the centre and the bogie centres, y through
+    the centre line and the air springs, z from the floor to the eaves; the roof arc over y."""
     L2, W2 = p.length / 2.0, p.width / 2.0
     lc, ys = p.bogie_spacing / 2.0, p.air_spring_y
-    zf, ze = p.floor_height, p.eave_height
     xs = mesh_lines(-L2, L2, h, (0.0, lc, -lc))
     yl = mesh_lines(-W2, W2, h, (0.0, ys, -ys))
-    zl = mesh_lines(zf, ze, h)
+    zl = mesh_lines(p.floor_height, p.eave_height, h)
     zroof = _roof_z(p, yl)
-    zroof[0] = zroof[-1] = ze
-    nx, ny, nz = xs.size, yl.size, zl.size
-    reg = NodeRegistry()
+    zroof[0] = zroof[-1] = p.eave_height
+    j_air = (int(np.argmin(np.abs(yl - ys))), int(np.argmin(np.abs(yl + ys))))
+    return _Grid(xs=xs, yl=yl, zl=zl, zroof=zroof, j_air=j_air)
 
-    floor = np.array([[reg.node(x, y, zf, _FLOOR) for y in yl] for x in xs])
-    wall_l = np.array([[reg.node(x, W2, z, _WALL_L) for z in zl] for x in xs])
-    wall_r = np.array([[reg.node(x, -W2, z, _WALL_R) for z in zl] for x in xs])
+
+def _panel_nodes(reg: NodeRegistry, p: CarBodyParams, g: _Grid) -> _Panels:
+    """Nodes of the floor, the side walls, the roof and the end walls (in that order), each
+    tagged with its region; edges shared by two panels get one node."""
+    L2, W2 = p.length / 2.0, p.width / 2.0
+    zf, ze = p.floor_height, p.eave_height
+    floor = np.array([[reg.node(x, y, zf, _FLOOR) for y in g.yl] for x in g.xs])
+    wall_l = np.array([[reg.node(x, W2, z, _WALL_L) for z in g.zl] for x in g.xs])
+    wall_r = np.array([[reg.node(x, -W2, z, _WALL_R) for z in g.zl] for x in g.xs])
     roof = np.array(
-        [[reg.node(x, y, zr, _ROOF) for y, zr in zip(yl, zroof, strict=False)] for x in xs]
+        [[reg.node(x, y, zr, _ROOF) for y, zr in zip(g.yl, g.zroof, strict=False)] for x in g.xs]
     )
-    s = (zl - zf) / (ze - zf)
+    s = (g.zl - zf) / (ze - zf)
     ends = {}
     for xe, r in ((L2, _END_F), (-L2, _END_R)):
         ends[xe] = np.array(
             [
                 [reg.node(xe, y, zf + (zr - zf) * sk, r) for sk in s]
-                for y, zr in zip(yl, zroof, strict=False)
+                for y, zr in zip(g.yl, g.zroof, strict=False)
             ]
         )
+    return _Panels(floor=floor, wall_left=wall_l, wall_right=wall_r, roof=roof,
+                   end_front=ends[L2], end_rear=ends[-L2])
 
-    quads: list[tuple[int, int, int, int]] = []
-    qgroup: list[int] = []
-    shell_names = ["floor", "side_wall", "roof", "end_wall"]
-    G_FLOOR, G_WALL, G_ROOF, G_END = range(4)
 
-    def add_grid(grid, group, skip=None):
-        for i in range(grid.shape[0] - 1):
-            for j in range(grid.shape[1] - 1):
-                if skip is not None and skip(i, j):
-                    continue
-                quads.append((grid[i, j], grid[i + 1, j], grid[i + 1, j + 1], grid[i, j + 1]))
-                qgroup.append(group)
-
-    add_grid(floor, G_FLOOR)
-    add_grid(roof, G_ROOF)
-
-    xc = 0.5 * (xs[:-1] + xs[1:])
-    zc = 0.5 * (zl[:-1] + zl[1:])
-    yc = 0.5 * (yl[:-1] + yl[1:])
+def _openings(p: CarBodyParams, g: _Grid) -> np.ndarray:
+    """(nx − 1, nz − 1) mask of the side-wall cells (x, z) that are door or window openings
+    (both walls alike): doors from the floor up, windows between sill and top."""
+    xc = 0.5 * (g.xs[:-1] + g.xs[1:])
+    zc = 0.5 * (g.zl[:-1] + g.zl[1:])
+    zf = p.floor_height
     doors = [(c, p.door_width) for d in p.door_centres for c in ((d, -d) if d else (d,))]
     windows = [
         (c, w)
@@ -192,122 +279,112 @@ def build_carbody(
                 return "window"
         return None
 
-    add_grid(wall_l, G_WALL, lambda i, k: opening(i, k) is not None)
-    add_grid(wall_r, G_WALL, lambda i, k: opening(i, k) is not None)
-    z_gw = zf + p.gangway_height
-    for xe in (L2, -L2):
-        grid = ends[xe]
+    return np.array([[opening(i, k) is not None for k in range(g.zl.size - 1)]
+                     for i in range(g.xs.size - 1)])
+
+
+def _add_shells(el: ElementLists, reg: NodeRegistry, p: CarBodyParams, g: _Grid,
+                panels: _Panels, openings: np.ndarray) -> None:
+    """Shells of the floor, the roof, the side walls (without the openings) and the end walls
+    (without the gangway opening), in that order."""
+    el.add_grid(panels.floor, _G_FLOOR)
+    el.add_grid(panels.roof, _G_ROOF)
+    el.add_grid(panels.wall_left, _G_WALL, lambda i, k: bool(openings[i, k]))
+    el.add_grid(panels.wall_right, _G_WALL, lambda i, k: bool(openings[i, k]))
+    yc = 0.5 * (g.yl[:-1] + g.yl[1:])
+    z_gw = p.floor_height + p.gangway_height
+    for grid in (panels.end_front, panels.end_rear):
         zc_end = np.array(
             [
                 [
                     0.5 * (grid_z(reg, grid[j, k]) + grid_z(reg, grid[j, k + 1]))
-                    for k in range(nz - 1)
+                    for k in range(g.zl.size - 1)
                 ]
-                for j in range(ny - 1)
+                for j in range(g.yl.size - 1)
             ]
         )
-        add_grid(
-            grid,
-            G_END,
-            lambda j, k, zc_end=zc_end: abs(yc[j]) < p.gangway_width / 2.0 and zc_end[j, k] < z_gw,
-        )
 
-    # ---- beams
-    bs = p.beam_scale
-    beam_sections = [
-        _box(0.15, 0.25, 6e-3, bs),  # side sill
-        _box(0.12, 0.12, 4e-3, bs),  # cant rail
-        _box(0.12, 0.16, 5e-3, bs),  # underframe longitudinal member
-        _box(0.15, 0.20, 6e-3, bs),  # end sill
-        _box(0.10, 0.08, 5e-3, bs),  # door / window frame
-        _box(0.30, 0.20, 12e-3, bs),  # bolster
-        _box(0.30, 0.20, 12e-3, max(bs, 1.0) * 4.0),  # bolster web (stiff, short)
-    ]
-    beam_names = [
-        "side_sill",
-        "cant_rail",
-        "underframe_longitudinal",
-        "end_sill",
-        "opening_frame",
-        "bolster",
-        "bolster_web",
-    ]
-    B_SILL, B_CANT, B_LONG, B_END, B_FRAME, B_BOLSTER, B_WEB = range(7)
-    beams: list[tuple[int, int]] = []
-    bgroup: list[int] = []
-    bvxy: list[tuple[float, float, float]] = []
+        def in_gangway(j: int, k: int, zc_end: np.ndarray = zc_end) -> bool:
+            return abs(yc[j]) < p.gangway_width / 2.0 and zc_end[j, k] < z_gw
 
-    def add_line(nodes, group, vxy):
-        for a, b in itertools.pairwise(nodes):
-            beams.append((int(a), int(b)))
-            bgroup.append(group)
-            bvxy.append(vxy)
+        el.add_grid(grid, _G_END, in_gangway)
 
-    jl, jr = ny - 1, 0
-    j_as = [int(np.argmin(np.abs(yl - ys))), int(np.argmin(np.abs(yl + ys)))]
-    add_line(floor[:, jl], B_SILL, (0.0, 1.0, 0.0))
-    add_line(floor[:, jr], B_SILL, (0.0, 1.0, 0.0))
-    add_line(wall_l[:, -1], B_CANT, (0.0, 1.0, 0.0))
-    add_line(wall_r[:, -1], B_CANT, (0.0, 1.0, 0.0))
-    for j in j_as:
-        add_line(floor[:, j], B_LONG, (0.0, 1.0, 0.0))
-    add_line(floor[0, :], B_END, (1.0, 0.0, 0.0))
-    add_line(floor[-1, :], B_END, (1.0, 0.0, 0.0))
-    # frames around openings (posts and headers / sills) on both walls
+
+def _add_frame_beams(el: ElementLists, g: _Grid, panels: _Panels, openings: np.ndarray) -> None:
+    """Beams along the panel edges: side sills, cant rails, the underframe longitudinal members
+    under the air springs, end sills, then frames around the openings of both walls."""
+    floor, wall_l, wall_r = panels.floor, panels.wall_left, panels.wall_right
+    jl, jr = g.yl.size - 1, 0
+    el.add_line(floor[:, jl], _B_SILL, (0.0, 1.0, 0.0))
+    el.add_line(floor[:, jr], _B_SILL, (0.0, 1.0, 0.0))
+    el.add_line(wall_l[:, -1], _B_CANT, (0.0, 1.0, 0.0))
+    el.add_line(wall_r[:, -1], _B_CANT, (0.0, 1.0, 0.0))
+    for j in g.j_air:
+        el.add_line(floor[:, j], _B_LONG, (0.0, 1.0, 0.0))
+    el.add_line(floor[0, :], _B_END, (1.0, 0.0, 0.0))
+    el.add_line(floor[-1, :], _B_END, (1.0, 0.0, 0.0))
     for wall in (wall_l, wall_r):
-        mask = np.array([[opening(i, k) is not None for k in range(nz - 1)] for i in range(nx - 1)])
-        for i in range(nx - 1):
-            for k in range(nz - 1):
-                if not mask[i, k]:
-                    continue
-                # each edge of an opening cell that borders a solid cell (or the floor) gets a beam
-                if i == 0 or not mask[i - 1, k]:
-                    add_line([wall[i, k], wall[i, k + 1]], B_FRAME, (1.0, 0.0, 0.0))
-                if i == nx - 2 or not mask[i + 1, k]:
-                    add_line([wall[i + 1, k], wall[i + 1, k + 1]], B_FRAME, (1.0, 0.0, 0.0))
-                if k == nz - 2 or not mask[i, k + 1]:
-                    add_line([wall[i, k + 1], wall[i + 1, k + 1]], B_FRAME, (0.0, 0.0, 1.0))
-                if k > 0 and not mask[i, k - 1]:
-                    add_line([wall[i, k], wall[i + 1, k]], B_FRAME, (0.0, 0.0, 1.0))
-    # bolsters at the bogie centres: transverse beam at the air-spring height, hung by webs
-    zu = p.underframe_height
+        _add_opening_frames(el, wall, openings)
+
+
+def _add_opening_frames(el: ElementLists, wall: np.ndarray, mask: np.ndarray) -> None:
+    """Posts and headers / sills around the openings of one wall: each edge of an opening cell
+    that borders a solid cell (or the floor) gets a beam."""
+    nx1, nz1 = mask.shape
+    for i in range(nx1):
+        for k in range(nz1):
+            if not mask[i, k]:
+                continue
+            if i == 0 or not mask[i - 1, k]:
+                el.add_line([wall[i, k], wall[i, k + 1]], _B_FRAME, (1.0, 0.0, 0.0))
+            if i == nx1 - 1 or not mask[i + 1, k]:
+                el.add_line([wall[i + 1, k], wall[i + 1, k + 1]], _B_FRAME, (1.0, 0.0, 0.0))
+            if k == nz1 - 1 or not mask[i, k + 1]:
+                el.add_line([wall[i, k + 1], wall[i + 1, k + 1]], _B_FRAME, (0.0, 0.0, 1.0))
+            if k > 0 and not mask[i, k - 1]:
+                el.add_line([wall[i, k], wall[i + 1, k]], _B_FRAME, (0.0, 0.0, 1.0))
+
+
+def _add_bolsters(el: ElementLists, reg: NodeRegistry, p: CarBodyParams, g: _Grid,
+                  panels: _Panels) -> dict[str, int]:
+    """A bolster at each bogie centre: a transverse beam at the air-spring height
+    (``underframe_height``, m) hung from the floor by stiff webs.
+
+    Returns
+    -------
+    dict of str to int
+        The air-spring seats ``as1L``, ``as1R`` and the centre pivot ``bogie1`` of the front
+        bolster, then those of the rear one (``…2``).
+    """
+    lc = p.bogie_spacing / 2.0
     named: dict[str, int] = {}
     for xb, tag in ((lc, "1"), (-lc, "2")):
-        ib = int(np.argmin(np.abs(xs - xb)))
-        bol = [reg.node(xs[ib], y, zu, _UNDER) for y in yl]
-        add_line(bol, B_BOLSTER, (1.0, 0.0, 0.0))
+        ib = int(np.argmin(np.abs(g.xs - xb)))
+        bol = [reg.node(g.xs[ib], y, p.underframe_height, _UNDER) for y in g.yl]
+        el.add_line(bol, _B_BOLSTER, (1.0, 0.0, 0.0))
         for j, nb in enumerate(bol):
-            add_line([nb, floor[ib, j]], B_WEB, (1.0, 0.0, 0.0))
-        named[f"as{tag}L"] = bol[j_as[0]]
-        named[f"as{tag}R"] = bol[j_as[1]]
-        named[f"bogie{tag}"] = bol[int(np.argmin(np.abs(yl)))]
+            el.add_line([nb, panels.floor[ib, j]], _B_WEB, (1.0, 0.0, 0.0))
+        named[f"as{tag}L"] = bol[g.j_air[0]]
+        named[f"as{tag}R"] = bol[g.j_air[1]]
+        named[f"bogie{tag}"] = bol[int(np.argmin(np.abs(g.yl)))]
+    return named
 
-    coords = reg.array()
-    region = np.asarray(reg.region, dtype=np.int64)
-    mesh = Mesh(
-        nodes=coords,
-        quads=np.asarray(quads, dtype=np.int64),
-        quad_group=np.asarray(qgroup, dtype=np.int64),
-        beams=np.asarray(beams, dtype=np.int64),
-        beam_group=np.asarray(bgroup, dtype=np.int64),
-        beam_vxy=np.asarray(bvxy, dtype=float),
-    )
-    shells = [
-        ShellSection(p.floor_face, p.floor_depth, p.web_fraction),
-        ShellSection(p.wall_face, p.wall_depth, p.web_fraction),
-        ShellSection(p.roof_face, p.roof_depth, p.web_fraction),
-        ShellSection(p.end_face, p.end_depth, p.web_fraction),
-    ]
 
-    # named points: paper points and floor grid
+def _add_output_nodes(named: dict[str, int], p: CarBodyParams, g: _Grid,
+                      panels: _Panels) -> list[str]:
+    """Name the paper's points (roof and floor nodes above the bogie centres, the floor at the
+    centre, above the rear air springs) and a floor grid (x every 1 m from −9 to +9 m, y at
+    −1.0, −0.5, 0, 0.5, 1.0 m: ``F<ix>_<iy>``) in ``named``; returns the grid's names."""
+    L2, lc = p.length / 2.0, p.bogie_spacing / 2.0
+    floor, roof, xs, yl = panels.floor, panels.roof, g.xs, g.yl
     j0 = int(np.argmin(np.abs(yl)))
     i_front, i_rear, i_mid = (int(np.argmin(np.abs(xs - v))) for v in (lc, -lc, 0.0))
     named["PR"] = int(roof[i_front, j0])
     named["PFB"] = int(floor[i_front, j0])
     named["PC"] = int(floor[i_mid, j0])
     named["PRB"] = int(floor[i_rear, j0])
-    named["PLA"] = int(floor[i_rear, j_as[0]])
-    named["PRA"] = int(floor[i_rear, j_as[1]])
+    named["PLA"] = int(floor[i_rear, g.j_air[0]])
+    named["PRA"] = int(floor[i_rear, g.j_air[1]])
     grid_names = []
     for ix, x in enumerate(np.arange(-9.0, 9.0 + 1e-9, 1.0)):
         if abs(x) > L2:
@@ -318,22 +395,31 @@ def build_carbody(
             name = f"F{ix:02d}_{iy}"
             named[name] = int(floor[i, j])
             grid_names.append(name)
+    return grid_names
 
-    model = FEModel(
-        name="carbody",
-        mesh=mesh,
-        shell_sections=shells,
-        beam_sections=beam_sections,
-        shell_group_names=shell_names,
-        beam_group_names=beam_names,
-        named_nodes=named,
-        node_region=region,
-        region_names=list(REGIONS),
-        info={"params": p.to_dict(), "element_size": h, "floor_grid": grid_names},
-    )
-    if target is not None:
-        _add_nonstructural_mass(model, p, target)
-    return compact(model)
+
+def _shell_sections(p: CarBodyParams) -> list[ShellSection]:
+    """Double-skin sections of the :data:`SHELL_GROUPS` (face and depth in m)."""
+    return [
+        ShellSection(p.floor_face, p.floor_depth, p.web_fraction),
+        ShellSection(p.wall_face, p.wall_depth, p.web_fraction),
+        ShellSection(p.roof_face, p.roof_depth, p.web_fraction),
+        ShellSection(p.end_face, p.end_depth, p.web_fraction),
+    ]
+
+
+def _beam_sections(bs: float) -> list[BeamSection]:
+    """Box sections of the :data:`BEAM_GROUPS` (m), stiffness scaled by ``bs``; the bolster
+    webs at least four times the bolster."""
+    return [
+        _box(0.15, 0.25, 6e-3, bs),  # side sill
+        _box(0.12, 0.12, 4e-3, bs),  # cant rail
+        _box(0.12, 0.16, 5e-3, bs),  # underframe longitudinal member
+        _box(0.15, 0.20, 6e-3, bs),  # end sill
+        _box(0.10, 0.08, 5e-3, bs),  # door / window frame
+        _box(0.30, 0.20, 12e-3, bs),  # bolster
+        _box(0.30, 0.20, 12e-3, max(bs, 1.0) * 4.0),  # bolster web (stiff, short)
+    ]
 
 
 def grid_z(reg: NodeRegistry, i: int) -> float:

@@ -61,6 +61,31 @@ def classify_mode(
     total = float(np.sum(u**2))
     if total <= 0:
         return "unclassified"
+    energies, sections = _section_motions(u, nodes)
+    beam = sum(energies) / total
+    beam_name = _beam_name(energies, sections)
+    if beam >= beam_threshold:
+        return beam_name
+    needed = {"floor", "roof", "wall_left", "wall_right"}
+    if node_region is None or not region_names or not needed <= set(region_names):
+        return "cross-section deformation"
+    local = _local_name(u, nodes, node_region, region_names)
+    return f"{local} + {beam_name}" if beam >= 0.3 else local
+
+
+def _section_motions(u: np.ndarray, nodes: np.ndarray) -> tuple[
+        tuple[float, float, float], tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Rigid in-plane motion of each cross-section (nodes sharing an x coordinate, at least
+    three) fitted to the nodal translations ``u`` (n, 3) by least squares.
+
+    Returns
+    -------
+    energies : (float, float, float)
+        Geometric share of the lateral ``v``, vertical ``w`` and twist ``θx`` motions (Σ of
+        squared displacements they carry, m²).
+    sections : (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        ``v`` (m), ``w`` (m) and ``θx`` (rad) of each section along x.
+    """
     xr = np.round(nodes[:, 0], 4)
     stations, inv = np.unique(xr, return_inverse=True)
     v_sec = np.zeros(stations.size)
@@ -85,20 +110,29 @@ def classify_mode(
         e_v += sol[0] ** 2 * idx.size
         e_w += sol[1] ** 2 * idx.size
         e_t += sol[2] ** 2 * float(np.sum((y - y0) ** 2 + (z - z0) ** 2))
-    beam = (e_v + e_w + e_t) / total
+    return (e_v, e_w, e_t), (v_sec, w_sec, t_sec)
+
+
+def _beam_name(energies: tuple[float, float, float],
+               sections: tuple[np.ndarray, np.ndarray, np.ndarray]) -> str:
+    """Name of the dominant beam-like motion (vertical or lateral bending, torsion) with its
+    order from the sign changes of the section motion along x."""
+    e_v, e_w, e_t = energies
+    v_sec, w_sec, t_sec = sections
     kind = int(np.argmax([e_w, e_v, e_t]))
     series = (w_sec, v_sec, t_sec)[kind]
     order = _zero_crossings(series)
     if kind == 2:
-        beam_name = "torsion" if order <= 1 else f"{_ORD.get(order, f'{order}th')} torsion"
-    else:
-        k = max(order - 1, 1)
-        beam_name = f"{_ORD.get(k, f'{k}th')} {('vertical', 'lateral')[kind]} bending"
-    if beam >= beam_threshold:
-        return beam_name
-    needed = {"floor", "roof", "wall_left", "wall_right"}
-    if node_region is None or not region_names or not needed <= set(region_names):
-        return "cross-section deformation"
+        return "torsion" if order <= 1 else f"{_ORD.get(order, f'{order}th')} torsion"
+    k = max(order - 1, 1)
+    return f"{_ORD.get(k, f'{k}th')} {('vertical', 'lateral')[kind]} bending"
+
+
+def _local_name(u: np.ndarray, nodes: np.ndarray, node_region: np.ndarray,
+                region_names: list[str]) -> str:
+    """Name of a cross-section deformation after the region with the largest rms translation:
+    side walls (breathing when they move against each other), floor or roof (roof–floor
+    breathing, rhombic deformation when the roof moves mostly laterally)."""
     rms = {}
     for r, name in enumerate(region_names):
         sel = node_region == r
@@ -106,29 +140,36 @@ def classify_mode(
     wall = max(rms.get("wall_left", 0.0), rms.get("wall_right", 0.0))
     floor, roof = rms.get("floor", 0.0), rms.get("roof", 0.0)
     if wall >= max(floor, roof):
-        il, ir = region_names.index("wall_left"), region_names.index("wall_right")
-        left, right = nodes[node_region == il], nodes[node_region == ir]
-        key_r = {(round(a, 3), round(c, 3)): k for k, (a, _, c) in enumerate(right)}
-        uy_l, uy_r = u[node_region == il, 1], u[node_region == ir, 1]
-        dot = 0.0
-        for k, (a, _, c) in enumerate(left):
-            j = key_r.get((round(a, 3), round(c, 3)))
-            if j is not None:
-                dot += uy_l[k] * uy_r[j]
-        local = "breathing (side walls)" if dot < 0 else "side walls lateral"
-    elif floor >= roof:
+        return _walls(u, nodes, node_region, region_names)
+    if floor >= roof:
         local = "floor local"
         if roof > 0.5 * floor:
             local = _roof_floor(u, nodes, node_region, region_names) or local
-    else:
-        local = "roof local"
-        ir = region_names.index("roof")
-        sel = node_region == ir
-        if np.sum(u[sel, 1] ** 2) > np.sum(u[sel, 2] ** 2):
-            local = "rhombic (lateral shear) deformation"
-        elif floor > 0.5 * roof:
-            local = _roof_floor(u, nodes, node_region, region_names) or local
-    return f"{local} + {beam_name}" if beam >= 0.3 else local
+        return local
+    local = "roof local"
+    ir = region_names.index("roof")
+    sel = node_region == ir
+    if np.sum(u[sel, 1] ** 2) > np.sum(u[sel, 2] ** 2):
+        local = "rhombic (lateral shear) deformation"
+    elif floor > 0.5 * roof:
+        local = _roof_floor(u, nodes, node_region, region_names) or local
+    return local
+
+
+def _walls(u: np.ndarray, nodes: np.ndarray, node_region: np.ndarray,
+           region_names: list[str]) -> str:
+    """``breathing (side walls)`` when the walls move laterally against each other (matching
+    nodes by x and z), else ``side walls lateral``."""
+    il, ir = region_names.index("wall_left"), region_names.index("wall_right")
+    left, right = nodes[node_region == il], nodes[node_region == ir]
+    key_r = {(round(a, 3), round(c, 3)): k for k, (a, _, c) in enumerate(right)}
+    uy_l, uy_r = u[node_region == il, 1], u[node_region == ir, 1]
+    dot = 0.0
+    for k, (a, _, c) in enumerate(left):
+        j = key_r.get((round(a, 3), round(c, 3)))
+        if j is not None:
+            dot += uy_l[k] * uy_r[j]
+    return "breathing (side walls)" if dot < 0 else "side walls lateral"
 
 
 def _roof_floor(u, nodes, node_region, region_names) -> str | None:

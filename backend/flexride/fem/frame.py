@@ -14,7 +14,6 @@ then misses each inertia by about 0.7 %.
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import asdict, dataclass, replace
 
 import numpy as np
@@ -25,7 +24,7 @@ from flexride.fem.massmatch import (
     groups_to_point_masses,
     solve_group_masses,
 )
-from flexride.fem.meshing import NodeRegistry, mesh_lines
+from flexride.fem.meshing import ElementLists, NodeRegistry, mesh_lines
 from flexride.fem.model import FEModel
 from flexride.fem.pyfe3d_adapter import STEEL, BeamSection, Material, Mesh, assemble
 from flexride.fem.rigid import mass_properties
@@ -85,72 +84,89 @@ def build_frame(
     """
     p = params
     h = float(element_size)
-    a = p.wheelbase / 2.0
-    xe = a + p.side_beam_overhang
-    zb = p.beam_height
     reg = NodeRegistry()
-    beams: list[tuple[int, int]] = []
-    bgroup: list[int] = []
-    bvxy: list[tuple[float, float, float]] = []
-    B_SIDE, B_CROSS, B_CENTRE, B_LINK = range(4)
-
-    def add_line(nodes, group, vxy):
-        for n1, n2 in itertools.pairwise(nodes):
-            beams.append((int(n1), int(n2)))
-            bgroup.append(group)
-            bvxy.append(vxy)
-
-    xs = mesh_lines(-xe, xe, h, (-a, a, 0.0, -p.cross_beam_x, p.cross_beam_x))
-    ys = mesh_lines(-p.primary_y, p.primary_y, h, (0.0,))
-    named: dict[str, int] = {}
-    for side, yv in (("L", p.primary_y), ("R", -p.primary_y)):
-        line = [reg.node(x, yv, zb, _SIDE) for x in xs]
-        add_line(line, B_SIDE, (0.0, 1.0, 0.0))
-        for ax, tag in ((a, "1"), (-a, "2")):
-            top = reg.node(ax, yv, zb, _SIDE)
-            seat = reg.node(ax, yv, p.primary_height, _SEAT)
-            add_line([top, seat], B_LINK, (1.0, 0.0, 0.0))
-            named[f"ab{tag}{side}"] = seat
-        top = reg.node(0.0, yv, zb, _SIDE)
-        ya = p.air_spring_y if side == "L" else -p.air_spring_y
-        seat = reg.node(0.0, ya, p.air_spring_height, _SEAT)
-        add_line([top, seat], B_LINK, (1.0, 0.0, 0.0))
-        named[f"as{side}"] = seat
-    for xc in (p.cross_beam_x, -p.cross_beam_x):
-        line = [reg.node(xc, y, zb, _CROSS) for y in ys]
-        add_line(line, B_CROSS, (1.0, 0.0, 0.0))
-    xcen = mesh_lines(-p.cross_beam_x, p.cross_beam_x, h, (0.0,))
-    add_line([reg.node(x, 0.0, zb, _CENTRE) for x in xcen], B_CENTRE, (0.0, 1.0, 0.0))
-    named["centre"] = reg.node(0.0, 0.0, zb, _CENTRE)
-
-    s = p.stiffness_scale
-    sections = [
-        BeamSection.box(p.side_beam_width, p.side_beam_depth, p.side_beam_wall, STEEL).scaled(s),
-        BeamSection.tube(p.cross_beam_diameter, p.cross_beam_wall, STEEL).scaled(s),
-        BeamSection.box(0.20, 0.20, 0.010, STEEL).scaled(s),
-        BeamSection(A=0.02, Iyy=2e-4, Izz=2e-4, J=4e-4, material=RIGID_LINK),
-    ]
-    coords = reg.array()
-    region = np.asarray(reg.region, dtype=np.int64)
+    el = ElementLists()
+    named = _add_side_beams(el, reg, p, h)
+    _add_cross_beams(el, reg, p, h)
+    named["centre"] = reg.node(0.0, 0.0, p.beam_height, _CENTRE)
     mesh = Mesh(
-        nodes=coords,
-        beams=np.asarray(beams, dtype=np.int64),
-        beam_group=np.asarray(bgroup, dtype=np.int64),
-        beam_vxy=np.asarray(bvxy, dtype=float),
+        nodes=reg.array(),
+        beams=np.asarray(el.beams, dtype=np.int64),
+        beam_group=np.asarray(el.beam_group, dtype=np.int64),
+        beam_vxy=np.asarray(el.beam_vxy, dtype=float),
     )
     model = FEModel(
         name="frame",
         mesh=mesh,
-        beam_sections=sections,
+        beam_sections=_sections(p),
         beam_group_names=["side_beam", "cross_beam", "centre_bracket", "seat_link"],
         named_nodes=named,
-        node_region=region,
+        node_region=np.asarray(reg.region, dtype=np.int64),
         region_names=list(REGIONS),
         info={"params": p.to_dict(), "element_size": h},
     )
     if target is not None:
         _add_nonstructural_mass(model, target)
     return model
+
+
+_B_SIDE, _B_CROSS, _B_CENTRE, _B_LINK = range(4)
+
+
+def _add_side_beams(el: ElementLists, reg: NodeRegistry, p: FrameParams,
+                    h: float) -> dict[str, int]:
+    """The left and right side beams (elements at most ``h`` m long, with nodes at the axles,
+    the centre and the cross beams), each with links down to its two axle-box spring seats and
+    up to its air-spring seat.
+
+    Returns
+    -------
+    dict of str to int
+        The seats by name: ``ab1L``, ``ab2L``, ``asL``, then ``ab1R``, ``ab2R``, ``asR``.
+    """
+    a = p.wheelbase / 2.0
+    xe = a + p.side_beam_overhang
+    zb = p.beam_height
+    xs = mesh_lines(-xe, xe, h, (-a, a, 0.0, -p.cross_beam_x, p.cross_beam_x))
+    named: dict[str, int] = {}
+    for side, yv in (("L", p.primary_y), ("R", -p.primary_y)):
+        line = [reg.node(x, yv, zb, _SIDE) for x in xs]
+        el.add_line(line, _B_SIDE, (0.0, 1.0, 0.0))
+        for ax, tag in ((a, "1"), (-a, "2")):
+            top = reg.node(ax, yv, zb, _SIDE)
+            seat = reg.node(ax, yv, p.primary_height, _SEAT)
+            el.add_line([top, seat], _B_LINK, (1.0, 0.0, 0.0))
+            named[f"ab{tag}{side}"] = seat
+        top = reg.node(0.0, yv, zb, _SIDE)
+        ya = p.air_spring_y if side == "L" else -p.air_spring_y
+        seat = reg.node(0.0, ya, p.air_spring_height, _SEAT)
+        el.add_line([top, seat], _B_LINK, (1.0, 0.0, 0.0))
+        named[f"as{side}"] = seat
+    return named
+
+
+def _add_cross_beams(el: ElementLists, reg: NodeRegistry, p: FrameParams, h: float) -> None:
+    """The two cross beams between the side beams and the centre bracket between the cross
+    beams (elements at most ``h`` m long)."""
+    zb = p.beam_height
+    ys = mesh_lines(-p.primary_y, p.primary_y, h, (0.0,))
+    for xc in (p.cross_beam_x, -p.cross_beam_x):
+        line = [reg.node(xc, y, zb, _CROSS) for y in ys]
+        el.add_line(line, _B_CROSS, (1.0, 0.0, 0.0))
+    xcen = mesh_lines(-p.cross_beam_x, p.cross_beam_x, h, (0.0,))
+    el.add_line([reg.node(x, 0.0, zb, _CENTRE) for x in xcen], _B_CENTRE, (0.0, 1.0, 0.0))
+
+
+def _sections(p: FrameParams) -> list[BeamSection]:
+    """Sections of the side beams (steel box), cross beams (steel tube), centre bracket and
+    seat links (stiff, practically massless), stiffness scaled by ``stiffness_scale``."""
+    s = p.stiffness_scale
+    return [
+        BeamSection.box(p.side_beam_width, p.side_beam_depth, p.side_beam_wall, STEEL).scaled(s),
+        BeamSection.tube(p.cross_beam_diameter, p.cross_beam_wall, STEEL).scaled(s),
+        BeamSection.box(0.20, 0.20, 0.010, STEEL).scaled(s),
+        BeamSection(A=0.02, Iyy=2e-4, Izz=2e-4, J=4e-4, material=RIGID_LINK),
+    ]
 
 
 def _add_nonstructural_mass(model: FEModel, target: InertiaTarget) -> None:

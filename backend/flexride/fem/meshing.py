@@ -1,8 +1,10 @@
-"""Small structured-meshing helpers: mesh lines through key points, a node registry."""
+"""Small structured-meshing helpers: mesh lines through key points, a node registry, the
+lists of elements being generated."""
 
 from __future__ import annotations
 
 import itertools
+from collections.abc import Callable, Iterable
 
 import numpy as np
 
@@ -45,3 +47,48 @@ class NodeRegistry:
     def array(self) -> np.ndarray:
         """(n, 3) coordinates."""
         return np.asarray(self.coords, dtype=float).reshape(-1, 3)
+
+
+class ElementLists:
+    """Quads and beams collected while a structured mesh is generated, with their groups.
+
+    Attributes
+    ----------
+    quads : list of (int, int, int, int)
+        Node indices of each four-node shell.
+    quad_group : list of int
+        Shell section of each quad.
+    beams : list of (int, int)
+        Node indices of each beam.
+    beam_group : list of int
+        Beam section of each beam.
+    beam_vxy : list of (float, float, float)
+        A vector in each beam's local x–y plane (section orientation).
+    """
+
+    def __init__(self) -> None:
+        self.quads: list[tuple[int, int, int, int]] = []
+        self.quad_group: list[int] = []
+        self.beams: list[tuple[int, int]] = []
+        self.beam_group: list[int] = []
+        self.beam_vxy: list[tuple[float, float, float]] = []
+
+    def add_grid(self, grid: np.ndarray, group: int,
+                 skip: Callable[[int, int], bool] | None = None) -> None:
+        """A quad on every cell of a (rows, columns) grid of node indices, row by row, except
+        the cells ``(i, j)`` for which ``skip(i, j)`` is true."""
+        for i in range(grid.shape[0] - 1):
+            for j in range(grid.shape[1] - 1):
+                if skip is not None and skip(i, j):
+                    continue
+                self.quads.append(
+                    (grid[i, j], grid[i + 1, j], grid[i + 1, j + 1], grid[i, j + 1]))
+                self.quad_group.append(group)
+
+    def add_line(self, nodes: Iterable[int], group: int,
+                 vxy: tuple[float, float, float]) -> None:
+        """A beam between each pair of consecutive nodes, oriented by ``vxy``."""
+        for a, b in itertools.pairwise(nodes):
+            self.beams.append((int(a), int(b)))
+            self.beam_group.append(group)
+            self.beam_vxy.append(vxy)

@@ -138,43 +138,12 @@ def reduced_to_modal_body(
         If the model does not have six rigid-body modes (constrained or with mechanisms).
     """
     nodes_xyz = np.asarray(nodes_xyz, dtype=float).reshape(-1, 3)
-    n_red = M.shape[0]
-    R_nodes = rigid_body_vectors(nodes_xyz)
-    if recovery is None:
-        if n_red != R_nodes.shape[0]:
-            raise FEModelError(
-                f"matrices have {n_red} DOFs but {nodes_xyz.shape[0]} nodes need "
-                f"{R_nodes.shape[0]} (6 per node)"
-            )
-        R = R_nodes if rigid_basis is None else np.asarray(rigid_basis, dtype=float)
-    elif rigid_basis is not None:
-        R = rigid_basis
-    else:
-        T = _dense(recovery)
-        R, *_ = np.linalg.lstsq(T, R_nodes, rcond=None)
-    Mrr = R.T @ (M @ R)
-    props = mass_properties_from_rigid_mass(Mrr)
-    if props.mass <= 0 or np.any(np.linalg.eigvalsh(props.inertia) <= 0):
-        raise FEModelError(f"model {name!r} has no positive mass or inertia: check M")
-
+    R = _rigid_basis(nodes_xyz, M, recovery, rigid_basis)
+    Mrr, props = _rigid_mass(name, M, R)
     f_max = None if cutoff_hz is None else float(cutoff_hz)
     if f_max is None and n_modes is None:
         raise ValueError("give cutoff_hz or n_modes")
-    modes = free_free_modes(K, M, R, n_elastic=n_modes if n_modes is not None else 6, f_max=f_max)
-    f_el = modes.frequencies[6:]
-    q = modes.shapes[:, 6:]
-    f_rigid = np.zeros(6)
-    Mrr_inv = np.linalg.inv(Mrr)
-    MR = M @ R
-    # exact M-orthogonality to the rigid-body modes, then unit modal mass
-    q = q - R @ (Mrr_inv @ (MR.T @ q))
-    q = q / np.sqrt(np.einsum("ij,ij->j", q, M @ q))
-    keep = np.ones(f_el.size, dtype=bool)
-    if f_max is not None:
-        keep &= f_el <= f_max
-    if n_modes is not None:
-        keep &= np.arange(f_el.size) < n_modes
-    f_el, q = f_el[keep], q[:, keep]
+    f_el, q = _elastic_modes(K, M, R, Mrr, f_max, n_modes)
     full = q if recovery is None else recovery @ q
     shapes = np.asarray(full).reshape(nodes_xyz.shape[0], 6, -1)
     zeta = modal_damping_ratios(damping, f_el)
@@ -193,7 +162,68 @@ def reduced_to_modal_body(
         nodes=nodes_xyz,
         mass_properties=props,
         shapes=shapes,
-        rigid_frequencies=f_rigid,
+        rigid_frequencies=np.zeros(6),
         reduced_modes=q,
         node_names=dict(markers or {}),
     )
+
+
+def _rigid_basis(nodes_xyz: np.ndarray, M, recovery, rigid_basis: np.ndarray | None) -> np.ndarray:
+    """(n_reduced, 6) rigid-body vectors about the origin in the model's coordinates: the given
+    ones, those of the nodes (nodal model) or their least-squares fit through ``recovery``.
+
+    Raises
+    ------
+    FEModelError
+        If a nodal model's matrices do not have six DOFs per node.
+    """
+    n_red = M.shape[0]
+    R_nodes = rigid_body_vectors(nodes_xyz)
+    if recovery is None:
+        if n_red != R_nodes.shape[0]:
+            raise FEModelError(
+                f"matrices have {n_red} DOFs but {nodes_xyz.shape[0]} nodes need "
+                f"{R_nodes.shape[0]} (6 per node)"
+            )
+        return R_nodes if rigid_basis is None else np.asarray(rigid_basis, dtype=float)
+    if rigid_basis is not None:
+        return rigid_basis
+    R, *_ = np.linalg.lstsq(_dense(recovery), R_nodes, rcond=None)
+    return R
+
+
+def _rigid_mass(name: str, M, R: np.ndarray) -> tuple[np.ndarray, MassProperties]:
+    """The 6 × 6 rigid-body mass matrix ``Rᵀ M R`` (kg, kg·m, kg·m²) and the mass properties
+    it gives (mass, CG, inertia tensor about the CG).
+
+    Raises
+    ------
+    FEModelError
+        If the mass or a principal inertia is not positive.
+    """
+    Mrr = R.T @ (M @ R)
+    props = mass_properties_from_rigid_mass(Mrr)
+    if props.mass <= 0 or np.any(np.linalg.eigvalsh(props.inertia) <= 0):
+        raise FEModelError(f"model {name!r} has no positive mass or inertia: check M")
+    return Mrr, props
+
+
+def _elastic_modes(K, M, R: np.ndarray, Mrr: np.ndarray, f_max: float | None,
+                   n_modes: int | None) -> tuple[np.ndarray, np.ndarray]:
+    """The elastic modes kept (up to ``f_max`` Hz and at most ``n_modes``): frequencies (Hz)
+    and shapes in the model's coordinates, made exactly M-orthogonal to the rigid-body vectors
+    ``R`` (rigid mass matrix ``Mrr``) and mass-normalised."""
+    modes = free_free_modes(K, M, R, n_elastic=n_modes if n_modes is not None else 6, f_max=f_max)
+    f_el = modes.frequencies[6:]
+    q = modes.shapes[:, 6:]
+    Mrr_inv = np.linalg.inv(Mrr)
+    MR = M @ R
+    # exact M-orthogonality to the rigid-body modes, then unit modal mass
+    q = q - R @ (Mrr_inv @ (MR.T @ q))
+    q = q / np.sqrt(np.einsum("ij,ij->j", q, M @ q))
+    keep = np.ones(f_el.size, dtype=bool)
+    if f_max is not None:
+        keep &= f_el <= f_max
+    if n_modes is not None:
+        keep &= np.arange(f_el.size) < n_modes
+    return f_el[keep], q[:, keep]

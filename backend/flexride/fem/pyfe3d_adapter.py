@@ -253,6 +253,10 @@ class Mesh:
         return DOF * self.n_nodes
 
 
+#: Sparse triplets (rows, columns, values) of a part of a matrix.
+_Triplets = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
 def _coo(rows, cols, vals, n) -> sp.csc_matrix:
     mat = sp.coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsc()
     mat.sum_duplicates()
@@ -283,109 +287,121 @@ def assemble(
     """
     n = mesh.n_dof
     x = np.ascontiguousarray(mesh.nodes, dtype=float).ravel()
-    mtype = 1 if lumped else 0
-    ks_r, ks_c, ks_v, ms_r, ms_c, ms_v = [], [], [], [], [], []
-
-    nq = len(mesh.quads)
-    if nq:
-        data = Quad4Data()
-        probe = Quad4Probe()
-        kr = np.zeros(data.KC0_SPARSE_SIZE * nq, dtype=INT)
-        kc = np.zeros_like(kr)
-        kv = np.zeros(data.KC0_SPARSE_SIZE * nq)
-        mr = np.zeros(data.M_SPARSE_SIZE * nq, dtype=INT)
-        mc = np.zeros_like(mr)
-        mv = np.zeros(data.M_SPARSE_SIZE * nq)
-        props = [s.to_pyfe3d() for s in shell_sections]
-        for e, (conn, g) in enumerate(
-            zip(mesh.quads.tolist(), mesh.quad_group.tolist(), strict=False)
-        ):
-            q = Quad4(probe)
-            q.c1, q.c2, q.c3, q.c4 = (DOF * c for c in conn)
-            q.init_k_KC0 = e * data.KC0_SPARSE_SIZE
-            q.init_k_M = e * data.M_SPARSE_SIZE
-            q.update_rotation_matrix(x)
-            q.update_probe_xe(x)
-            q.update_KC0(kr, kc, kv, props[g])
-            q.update_M(mr, mc, mv, props[g], mtype=mtype)
-        if lumped:  # mtype=1 writes only the first 120 entries per element
-            keep = (np.arange(mr.size) % data.M_SPARSE_SIZE) < 120
-            mr, mc, mv = mr[keep], mc[keep], mv[keep]
-        ks_r.append(kr)
-        ks_c.append(kc)
-        ks_v.append(kv)
-        ms_r.append(mr)
-        ms_c.append(mc)
-        ms_v.append(mv)
-
-    nb = len(mesh.beams)
-    if nb:
-        data = BeamCData()
-        probe = BeamCProbe()
-        kr = np.zeros(data.KC0_SPARSE_SIZE * nb, dtype=INT)
-        kc = np.zeros_like(kr)
-        kv = np.zeros(data.KC0_SPARSE_SIZE * nb)
-        msize = 36 if lumped else data.M_SPARSE_SIZE
-        mr = np.zeros(data.M_SPARSE_SIZE * nb, dtype=INT)
-        mc = np.zeros_like(mr)
-        mv = np.zeros(data.M_SPARSE_SIZE * nb)
-        props = [s.to_pyfe3d() for s in beam_sections]
-        for e, (conn, g, v) in enumerate(
-            zip(mesh.beams.tolist(), mesh.beam_group.tolist(), mesh.beam_vxy.tolist(), strict=False)
-        ):
-            b = BeamC(probe)
-            b.c1, b.c2 = DOF * conn[0], DOF * conn[1]
-            b.init_k_KC0 = e * data.KC0_SPARSE_SIZE
-            b.init_k_M = e * data.M_SPARSE_SIZE
-            b.update_rotation_matrix(v[0], v[1], v[2], x)
-            b.update_probe_xe(x)
-            b.update_KC0(kr, kc, kv, props[g])
-            b.update_M(mr, mc, mv, props[g], mtype=mtype)
-        if lumped:
-            keep = (np.arange(mr.size) % data.M_SPARSE_SIZE) < msize
-            mr, mc, mv = mr[keep], mc[keep], mv[keep]
-        ks_r.append(kr)
-        ks_c.append(kc)
-        ks_v.append(kv)
-        ms_r.append(mr)
-        ms_c.append(mc)
-        ms_v.append(mv)
-
-    ns = len(mesh.springs)
-    if ns:
-        data = SpringData()
-        probe = SpringProbe()
-        kr = np.zeros(data.KC0_SPARSE_SIZE * ns, dtype=INT)
-        kc = np.zeros_like(kr)
-        kv = np.zeros(data.KC0_SPARSE_SIZE * ns)
-        for e, (conn, k) in enumerate(
-            zip(mesh.springs.tolist(), mesh.spring_k.tolist(), strict=False)
-        ):
-            s = Spring(probe)
-            s.c1, s.c2 = DOF * conn[0], DOF * conn[1]
-            s.init_k_KC0 = e * data.KC0_SPARSE_SIZE
-            s.kxe, s.kye, s.kze, s.krxe, s.krye, s.krze = k
-            s.update_rotation_matrix(1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
-            s.update_KC0(kr, kc, kv)
-        ks_r.append(kr)
-        ks_c.append(kc)
-        ks_v.append(kv)
-
+    k_parts: list[_Triplets] = []
+    m_parts: list[_Triplets] = []
+    if len(mesh.quads):
+        k, m = _quad_triplets(mesh, x, shell_sections, lumped)
+        k_parts.append(k)
+        m_parts.append(m)
+    if len(mesh.beams):
+        k, m = _beam_triplets(mesh, x, beam_sections, lumped)
+        k_parts.append(k)
+        m_parts.append(m)
+    if len(mesh.springs):
+        k_parts.append(_spring_triplets(mesh))
     if len(mesh.mass_nodes):
-        r, c, v = lumped_mass_triplets(mesh.mass_nodes, mesh.mass_values, mesh.mass_offsets)
-        ms_r.append(r)
-        ms_c.append(c)
-        ms_v.append(v)
-
-    def cat(parts, dtype):
-        return np.concatenate(parts) if parts else np.zeros(0, dtype=dtype)
-
-    K = _coo(cat(ks_r, INT), cat(ks_c, INT), cat(ks_v, float), n)
-    M = _coo(cat(ms_r, INT), cat(ms_c, INT), cat(ms_v, float), n)
+        m_parts.append(lumped_mass_triplets(mesh.mass_nodes, mesh.mass_values, mesh.mass_offsets))
+    K = _matrix(k_parts, n)
+    M = _matrix(m_parts, n)
     # remove round-off asymmetry
     K = ((K + K.T) * 0.5).tocsc()
     M = ((M + M.T) * 0.5).tocsc()
     return K, M
+
+
+def _matrix(parts: list[_Triplets], n: int) -> sp.csc_matrix:
+    """The n × n matrix of the sum of the triplets of ``parts`` (duplicates summed)."""
+    def cat(k: int, dtype) -> np.ndarray:
+        return np.concatenate([p[k] for p in parts]) if parts else np.zeros(0, dtype=dtype)
+
+    return _coo(cat(0, INT), cat(1, INT), cat(2, float), n)
+
+
+def _quad_triplets(mesh: Mesh, x: np.ndarray, shell_sections: list[ShellSection],
+                   lumped: bool) -> tuple[_Triplets, _Triplets]:
+    """Stiffness and mass triplets of the shells (pyfe3d ``Quad4``); ``x`` are the node
+    coordinates (m), flattened. Lumped masses keep the 120 entries pyfe3d writes per element."""
+    nq = len(mesh.quads)
+    data = Quad4Data()
+    probe = Quad4Probe()
+    kr = np.zeros(data.KC0_SPARSE_SIZE * nq, dtype=INT)
+    kc = np.zeros_like(kr)
+    kv = np.zeros(data.KC0_SPARSE_SIZE * nq)
+    mr = np.zeros(data.M_SPARSE_SIZE * nq, dtype=INT)
+    mc = np.zeros_like(mr)
+    mv = np.zeros(data.M_SPARSE_SIZE * nq)
+    props = [s.to_pyfe3d() for s in shell_sections]
+    mtype = 1 if lumped else 0
+    for e, (conn, g) in enumerate(
+        zip(mesh.quads.tolist(), mesh.quad_group.tolist(), strict=False)
+    ):
+        q = Quad4(probe)
+        q.c1, q.c2, q.c3, q.c4 = (DOF * c for c in conn)
+        q.init_k_KC0 = e * data.KC0_SPARSE_SIZE
+        q.init_k_M = e * data.M_SPARSE_SIZE
+        q.update_rotation_matrix(x)
+        q.update_probe_xe(x)
+        q.update_KC0(kr, kc, kv, props[g])
+        q.update_M(mr, mc, mv, props[g], mtype=mtype)
+    if lumped:  # mtype=1 writes only the first 120 entries per element
+        keep = (np.arange(mr.size) % data.M_SPARSE_SIZE) < 120
+        mr, mc, mv = mr[keep], mc[keep], mv[keep]
+    return (kr, kc, kv), (mr, mc, mv)
+
+
+def _beam_triplets(mesh: Mesh, x: np.ndarray, beam_sections: list[BeamSection],
+                   lumped: bool) -> tuple[_Triplets, _Triplets]:
+    """Stiffness and mass triplets of the beams (pyfe3d ``BeamC``, oriented by
+    ``mesh.beam_vxy``); ``x`` are the node coordinates (m), flattened. Lumped masses keep 36
+    entries per element."""
+    nb = len(mesh.beams)
+    data = BeamCData()
+    probe = BeamCProbe()
+    kr = np.zeros(data.KC0_SPARSE_SIZE * nb, dtype=INT)
+    kc = np.zeros_like(kr)
+    kv = np.zeros(data.KC0_SPARSE_SIZE * nb)
+    msize = 36 if lumped else data.M_SPARSE_SIZE
+    mr = np.zeros(data.M_SPARSE_SIZE * nb, dtype=INT)
+    mc = np.zeros_like(mr)
+    mv = np.zeros(data.M_SPARSE_SIZE * nb)
+    props = [s.to_pyfe3d() for s in beam_sections]
+    mtype = 1 if lumped else 0
+    for e, (conn, g, v) in enumerate(
+        zip(mesh.beams.tolist(), mesh.beam_group.tolist(), mesh.beam_vxy.tolist(), strict=False)
+    ):
+        b = BeamC(probe)
+        b.c1, b.c2 = DOF * conn[0], DOF * conn[1]
+        b.init_k_KC0 = e * data.KC0_SPARSE_SIZE
+        b.init_k_M = e * data.M_SPARSE_SIZE
+        b.update_rotation_matrix(v[0], v[1], v[2], x)
+        b.update_probe_xe(x)
+        b.update_KC0(kr, kc, kv, props[g])
+        b.update_M(mr, mc, mv, props[g], mtype=mtype)
+    if lumped:
+        keep = (np.arange(mr.size) % data.M_SPARSE_SIZE) < msize
+        mr, mc, mv = mr[keep], mc[keep], mv[keep]
+    return (kr, kc, kv), (mr, mc, mv)
+
+
+def _spring_triplets(mesh: Mesh) -> _Triplets:
+    """Stiffness triplets of the springs (pyfe3d ``Spring``, global axes; ``mesh.spring_k`` in
+    N/m and N·m/rad)."""
+    ns = len(mesh.springs)
+    data = SpringData()
+    probe = SpringProbe()
+    kr = np.zeros(data.KC0_SPARSE_SIZE * ns, dtype=INT)
+    kc = np.zeros_like(kr)
+    kv = np.zeros(data.KC0_SPARSE_SIZE * ns)
+    for e, (conn, k) in enumerate(
+        zip(mesh.springs.tolist(), mesh.spring_k.tolist(), strict=False)
+    ):
+        s = Spring(probe)
+        s.c1, s.c2 = DOF * conn[0], DOF * conn[1]
+        s.init_k_KC0 = e * data.KC0_SPARSE_SIZE
+        s.kxe, s.kye, s.kze, s.krxe, s.krye, s.krze = k
+        s.update_rotation_matrix(1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
+        s.update_KC0(kr, kc, kv)
+    return kr, kc, kv
 
 
 def lumped_mass_triplets(

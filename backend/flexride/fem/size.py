@@ -20,7 +20,7 @@ REFERENCE_ELEMENT_SIZE_M = 0.25
 
 @lru_cache(maxsize=32)
 def _exact_dofs(kind: str, vehicle_json: str, element_size: float) -> int:
-    from flexride.fem.flexible import build_fe_model
+    from flexride.fem.vehicle_models import build_fe_model
 
     vehicle = Vehicle.model_validate_json(vehicle_json)
     model, _target = build_fe_model(kind, vehicle, element_size=element_size)  # type: ignore[arg-type]

@@ -248,10 +248,40 @@ def build_vehicle(
     """
     output = output or Output()
     g = params.geometry
+    bodies = _bodies(params, carbody, frames)
+    rates = _SuspensionRates.of(params)
+    elements: list[SuspensionElement] = []
+    for jf, i_f in enumerate(_I_FRAMES):
+        elements += _secondary_suspension(params, bodies, jf, i_f, rates)
+        elements += _optional_elements(params, bodies, jf, i_f)
+        elements += _primary_suspension(params, bodies, jf, i_f, rates)
+    points, recorded = _recorded_points(params, output, bodies)
+    return VehicleModel(
+        bodies=bodies,
+        elements=elements,
+        wheelsets=list(_I_WHEELSETS),
+        points=points,
+        recorded=recorded,
+        rolling_circle_half_distance=g.rolling_circle_half_distance,
+        wheel_radius=g.wheel_radius,
+    )
+
+
+#: Indices of the bodies in :attr:`VehicleModel.bodies`.
+_I_CARBODY = 0
+_I_FRAMES = (1, 2)
+_I_WHEELSETS = (3, 4, 5, 6)
+
+
+def _bodies(params: Vehicle, carbody: ModalBody | None,
+            frames: tuple[ModalBody, ModalBody] | None) -> list[ModalBody]:
+    """The seven bodies front to rear: the car body at x = 0, the frames at ± half the bogie
+    spacing, the wheelsets at ± half the wheelbase from their frame (m); rigid unless flexible
+    replacements are given."""
+    g = params.geometry
     lc = g.bogie_centre_spacing / 2.0
     lw = g.wheelbase / 2.0
     cb, fr, ws = params.carbody, params.frame, params.wheelset
-
     bodies: list[ModalBody] = []
     bodies.append(
         carbody or rigid_body("carbody", cb.mass, (cb.ixx, cb.iyy, cb.izz), 0.0, cb.cg_height)
@@ -276,124 +306,174 @@ def build_vehicle(
                 is_wheelset=True,
             )
         )
-    ic = 0
-    i_frames = (1, 2)
-    i_ws = (3, 4, 5, 6)
+    return bodies
 
-    elements: list[SuspensionElement] = []
-    p, s, o = params.primary, params.secondary, params.optional
-    k_prim = _six((p.kx, p.ky, p.kz))
-    c_prim = _six((p.cx, p.cy, p.cz))
-    k_sec = _six((s.kx, s.ky, s.kz))
-    c_sec = _six((s.cx, s.cy, s.cz))
 
-    carbody_body = bodies[ic]
-    for jf, i_f in enumerate(i_frames):
-        frame = bodies[i_f]
-        xf = frame.x_ref
-        # secondary suspension: air springs left and right
-        for side, ys in (
-            ("L", g.secondary_lateral_half_spacing),
-            ("R", -g.secondary_lateral_half_spacing),
-        ):
-            m_c = f"as{jf + 1}{side}"
-            carbody_body.add_marker(
-                m_c, (xf - carbody_body.x_ref, ys, g.secondary_height - carbody_body.cg_height)
-            )
-            frame.add_marker(m_c, (0.0, ys, g.secondary_height - frame.cg_height))
-            elements.append(
-                SuspensionElement(
-                    f"secondary.{jf + 1}{side}", ic, m_c, i_f, m_c, k_sec.copy(), c_sec.copy()
-                )
-            )
-        # optional: anti-roll bar, secondary lateral damper, yaw dampers
-        centre = f"bogie{jf + 1}"
+@dataclass(frozen=True)
+class _SuspensionRates:
+    """Six-component stiffness (N/m, N·m/rad) and damping (N·s/m, N·m·s/rad) of the primary
+    and secondary suspension elements (translations only; rotations zero)."""
+
+    k_prim: np.ndarray
+    c_prim: np.ndarray
+    k_sec: np.ndarray
+    c_sec: np.ndarray
+
+    @classmethod
+    def of(cls, params: Vehicle) -> _SuspensionRates:
+        """The rates of the vehicle's primary and secondary suspension."""
+        p, s = params.primary, params.secondary
+        return cls(k_prim=_six((p.kx, p.ky, p.kz)), c_prim=_six((p.cx, p.cy, p.cz)),
+                   k_sec=_six((s.kx, s.ky, s.kz)), c_sec=_six((s.cx, s.cy, s.cz)))
+
+
+def _secondary_suspension(params: Vehicle, bodies: list[ModalBody], jf: int, i_f: int,
+                          rates: _SuspensionRates) -> list[SuspensionElement]:
+    """The air springs of bogie ``jf`` (0 front, 1 rear; frame body ``i_f``), left and right,
+    at the secondary height and lateral half spacing (m), with their markers ``as<n><L|R>`` on
+    the car body and the frame; then the bogie-centre markers ``bogie<n>`` (pivot)."""
+    g = params.geometry
+    carbody_body, frame = bodies[_I_CARBODY], bodies[i_f]
+    xf = frame.x_ref
+    elements = []
+    for side, ys in (
+        ("L", g.secondary_lateral_half_spacing),
+        ("R", -g.secondary_lateral_half_spacing),
+    ):
+        m_c = f"as{jf + 1}{side}"
         carbody_body.add_marker(
-            centre, (xf - carbody_body.x_ref, 0.0, g.secondary_height - carbody_body.cg_height)
+            m_c, (xf - carbody_body.x_ref, ys, g.secondary_height - carbody_body.cg_height)
         )
-        frame.add_marker(centre, (0.0, 0.0, g.secondary_height - frame.cg_height))
-        if o.anti_roll_bar_stiffness > 0.0:
-            elements.append(
-                SuspensionElement(
-                    f"anti_roll_bar.{jf + 1}",
-                    ic,
-                    centre,
-                    i_f,
-                    centre,
-                    _six((0.0, 0.0, 0.0), (o.anti_roll_bar_stiffness, 0.0, 0.0)),
-                    np.zeros(6),
-                )
-            )
-        if o.secondary_lateral_damper > 0.0:
-            m = f"latdamper{jf + 1}"
-            carbody_body.add_marker(
-                m,
-                (
-                    xf - carbody_body.x_ref,
-                    0.0,
-                    o.secondary_lateral_damper_height - carbody_body.cg_height,
-                ),
-            )
-            frame.add_marker(m, (0.0, 0.0, o.secondary_lateral_damper_height - frame.cg_height))
-            elements.append(
-                SuspensionElement(
-                    f"lateral_damper.{jf + 1}",
-                    ic,
-                    m,
-                    i_f,
-                    m,
-                    np.zeros(6),
-                    _six((0.0, o.secondary_lateral_damper, 0.0)),
-                )
-            )
-        if o.yaw_damper > 0.0:
-            for side, ys in (
-                ("L", o.yaw_damper_lateral_half_spacing),
-                ("R", -o.yaw_damper_lateral_half_spacing),
-            ):
-                m = f"yawdamper{jf + 1}{side}"
-                carbody_body.add_marker(
-                    m, (xf - carbody_body.x_ref, ys, g.secondary_height - carbody_body.cg_height)
-                )
-                frame.add_marker(m, (0.0, ys, g.secondary_height - frame.cg_height))
-                elements.append(
-                    SuspensionElement(
-                        f"yaw_damper.{jf + 1}{side}",
-                        ic,
-                        m,
-                        i_f,
-                        m,
-                        np.zeros(6),
-                        _six((o.yaw_damper, 0.0, 0.0)),
-                    )
-                )
-        # primary suspension: two axle boxes per wheelset
-        for i_w in i_ws[2 * jf : 2 * jf + 2]:
-            wheelset = bodies[i_w]
-            dx = wheelset.x_ref - xf
-            for side, ys in (
-                ("L", g.primary_lateral_half_spacing),
-                ("R", -g.primary_lateral_half_spacing),
-            ):
-                m = f"axlebox{side}"
-                m_f = f"{wheelset.name}.{m}"
-                frame.add_marker(m_f, (dx, ys, g.primary_height - frame.cg_height))
-                wheelset.add_marker(
-                    m, (0.0, ys, g.primary_height - wheelset.cg_height), lock_pitch=True
-                )
-                elements.append(
-                    SuspensionElement(
-                        f"primary.{wheelset.name}.{side}",
-                        i_f,
-                        m_f,
-                        i_w,
-                        m,
-                        k_prim.copy(),
-                        c_prim.copy(),
-                    )
-                )
+        frame.add_marker(m_c, (0.0, ys, g.secondary_height - frame.cg_height))
+        elements.append(
+            SuspensionElement(f"secondary.{jf + 1}{side}", _I_CARBODY, m_c, i_f, m_c,
+                              rates.k_sec.copy(), rates.c_sec.copy())
+        )
+    centre = f"bogie{jf + 1}"
+    carbody_body.add_marker(
+        centre, (xf - carbody_body.x_ref, 0.0, g.secondary_height - carbody_body.cg_height)
+    )
+    frame.add_marker(centre, (0.0, 0.0, g.secondary_height - frame.cg_height))
+    return elements
 
-    # recorded points: markers for the kernel, RecordedPoints for everyone else
+
+def _optional_elements(params: Vehicle, bodies: list[ModalBody], jf: int,
+                       i_f: int) -> list[SuspensionElement]:
+    """The optional elements of bogie ``jf`` (frame body ``i_f``) whose rate is not zero: the
+    anti-roll bar (roll stiffness N·m/rad at the bogie centre), the secondary lateral damper
+    (N·s/m at its height) and the yaw dampers left and right (N·s/m), with their markers."""
+    g, o = params.geometry, params.optional
+    carbody_body, frame = bodies[_I_CARBODY], bodies[i_f]
+    xf = frame.x_ref
+    elements = []
+    centre = f"bogie{jf + 1}"
+    if o.anti_roll_bar_stiffness > 0.0:
+        elements.append(
+            SuspensionElement(
+                f"anti_roll_bar.{jf + 1}",
+                _I_CARBODY,
+                centre,
+                i_f,
+                centre,
+                _six((0.0, 0.0, 0.0), (o.anti_roll_bar_stiffness, 0.0, 0.0)),
+                np.zeros(6),
+            )
+        )
+    if o.secondary_lateral_damper > 0.0:
+        m = f"latdamper{jf + 1}"
+        carbody_body.add_marker(
+            m,
+            (
+                xf - carbody_body.x_ref,
+                0.0,
+                o.secondary_lateral_damper_height - carbody_body.cg_height,
+            ),
+        )
+        frame.add_marker(m, (0.0, 0.0, o.secondary_lateral_damper_height - frame.cg_height))
+        elements.append(
+            SuspensionElement(
+                f"lateral_damper.{jf + 1}",
+                _I_CARBODY,
+                m,
+                i_f,
+                m,
+                np.zeros(6),
+                _six((0.0, o.secondary_lateral_damper, 0.0)),
+            )
+        )
+    if o.yaw_damper > 0.0:
+        for side, ys in (
+            ("L", o.yaw_damper_lateral_half_spacing),
+            ("R", -o.yaw_damper_lateral_half_spacing),
+        ):
+            m = f"yawdamper{jf + 1}{side}"
+            carbody_body.add_marker(
+                m, (xf - carbody_body.x_ref, ys, g.secondary_height - carbody_body.cg_height)
+            )
+            frame.add_marker(m, (0.0, ys, g.secondary_height - frame.cg_height))
+            elements.append(
+                SuspensionElement(
+                    f"yaw_damper.{jf + 1}{side}",
+                    _I_CARBODY,
+                    m,
+                    i_f,
+                    m,
+                    np.zeros(6),
+                    _six((o.yaw_damper, 0.0, 0.0)),
+                )
+            )
+    return elements
+
+
+def _primary_suspension(params: Vehicle, bodies: list[ModalBody], jf: int, i_f: int,
+                        rates: _SuspensionRates) -> list[SuspensionElement]:
+    """The axle-box springs of bogie ``jf`` (frame body ``i_f``): two per wheelset, left and
+    right at the primary height and lateral half spacing (m), with markers
+    ``<wheelset>.axlebox<L|R>`` on the frame and ``axlebox<L|R>`` on the wheelset (pitch
+    locked: the wheelset's pitch coordinate is its spin)."""
+    g = params.geometry
+    frame = bodies[i_f]
+    elements = []
+    for i_w in _I_WHEELSETS[2 * jf : 2 * jf + 2]:
+        wheelset = bodies[i_w]
+        dx = wheelset.x_ref - frame.x_ref
+        for side, ys in (
+            ("L", g.primary_lateral_half_spacing),
+            ("R", -g.primary_lateral_half_spacing),
+        ):
+            m = f"axlebox{side}"
+            m_f = f"{wheelset.name}.{m}"
+            frame.add_marker(m_f, (dx, ys, g.primary_height - frame.cg_height))
+            wheelset.add_marker(
+                m, (0.0, ys, g.primary_height - wheelset.cg_height), lock_pitch=True
+            )
+            elements.append(
+                SuspensionElement(
+                    f"primary.{wheelset.name}.{side}",
+                    i_f,
+                    m_f,
+                    i_w,
+                    m,
+                    rates.k_prim.copy(),
+                    rates.c_prim.copy(),
+                )
+            )
+    return elements
+
+
+def _recorded_points(params: Vehicle, output: Output, bodies: list[ModalBody]) -> tuple[
+        list[tuple[str, int, str]], list[RecordedPoint]]:
+    """Markers ``point.<name>`` for the car-body output points, then a ``centre`` marker on
+    each frame and wheelset.
+
+    Returns
+    -------
+    points : list of (str, int, str)
+        Point name, body index and marker, for the kernel.
+    recorded : list of RecordedPoint
+        The same points for everyone else (positions in m).
+    """
+    carbody_body = bodies[_I_CARBODY]
     points: list[tuple[str, int, str]] = []
     recorded: list[RecordedPoint] = []
     n_paper, n_user = len(PAPER_POINTS), len(output.points)
@@ -402,22 +482,13 @@ def build_vehicle(
         carbody_body.add_marker(
             marker, (pt.x - carbody_body.x_ref, pt.y, pt.z - carbody_body.cg_height)
         )
-        points.append((pt.name, ic, marker))
+        points.append((pt.name, _I_CARBODY, marker))
         kind = "paper" if k < n_paper else "user" if k < n_paper + n_user else "grid"
         recorded.append(_carbody_point(pt, output, kind))
-    for i in (*i_frames, *i_ws):
+    for i in (*_I_FRAMES, *_I_WHEELSETS):
         b = bodies[i]
         b.add_marker("centre", (0.0, 0.0, 0.0), lock_pitch=b.is_wheelset)
         points.append(("centre", i, "centre"))
         recorded.append(RecordedPoint(b.name, "centre", f"centre of gravity of {b.name}",
                                       b.x_ref, 0.0, b.cg_height, None, "body"))
-
-    return VehicleModel(
-        bodies=bodies,
-        elements=elements,
-        wheelsets=list(i_ws),
-        points=points,
-        recorded=recorded,
-        rolling_circle_half_distance=g.rolling_circle_half_distance,
-        wheel_radius=g.wheel_radius,
-    )
+    return points, recorded

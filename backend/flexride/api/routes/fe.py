@@ -9,7 +9,7 @@ from fastapi import APIRouter, Path, Query, Response
 from flexride.api.deps import ServicesDep, TokenOk
 from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport
 from flexride.api.services import fe as svc_fe
-from flexride.fe_export import DEFAULT_MAX_MODES, ExportSpec
+from flexride.fem.export import DEFAULT_MAX_MODES, ExportSpec
 from flexride.model.bodies import BodyModel
 from flexride.study.admission import check_fe_build
 

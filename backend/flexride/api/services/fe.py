@@ -1,6 +1,6 @@
 """FE meshes and mode shapes for the browser (``GET /fe/{kind}``, ``GET /jobs/{id}/fe/{kind}``).
 
-An export (:mod:`flexride.fe_export`) is served from its file under
+An export (:mod:`flexride.fem.export`) is served from its file under
 ``<cache_dir>/fe-export-<version>/<key>.json`` when it exists. Otherwise :class:`FEBuilds`
 starts its build in a separate process — spawned on first use and then kept, so the API's
 event loop and threads stay free while a car body is built (about a minute at 0.2 m) — and the
@@ -31,7 +31,7 @@ from fastapi.responses import FileResponse, Response
 from flexride import __version__
 from flexride.api.errors import Conflict, SafeJSONResponse
 from flexride.errors import ScenarioError
-from flexride.fe_export import BODY_FIELDS, ExportSpec, init_build_process, run_export_job
+from flexride.fem.export import BODY_FIELDS, ExportSpec, init_build_process, run_export_job
 from flexride.model.bodies import BodyModel
 from flexride.model.vehicle import Vehicle
 from flexride.settings import API_PREFIX
@@ -115,7 +115,7 @@ class FEBuilds:
         Makes the executor of the builds (default: one spawned process).
     build : callable, optional
         ``build(spec, dest) -> {"ok": True, ...} | {"ok": False, "error", "type"}`` run by the
-        executor (default :func:`flexride.fe_export.run_export_job`).
+        executor (default :func:`flexride.fem.export.run_export_job`).
     """
 
     def __init__(self, cache_dir: Path, *, wait_s: float = 3.0, failure_ttl_s: float = 300.0,

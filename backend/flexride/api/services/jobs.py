@@ -149,16 +149,16 @@ def delete_records_and_files(svc: Services, names: list[str | None],
     aside: list[tuple[Path, Path]] = []
     try:
         for name in names:
-            moved = _set_aside(svc, name)
-            if moved is not None:
-                aside.append(moved)
+            pair = _set_aside(svc, name)
+            if pair is not None:
+                aside.append(pair)
         result = delete_records()
     except BaseException:
-        for original, moved in aside:
-            os.replace(moved, original)
+        for original, renamed in aside:
+            os.replace(renamed, original)
         raise
-    for _, moved in aside:
-        moved.unlink(missing_ok=True)
+    for _, renamed in aside:
+        renamed.unlink(missing_ok=True)
     return result
 
 
