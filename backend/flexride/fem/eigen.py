@@ -170,16 +170,18 @@ def _projector(M, deflate):
 def _eigsh(K, M, factor: ShiftInvert, k: int, tol: float, project):
     """The ``k`` eigenpairs nearest to the factor's shift (ascending)."""
     n = K.shape[0]
+    # a fixed start vector: ARPACK otherwise starts from a random one, and modes near the
+    # cut-off (and so the number kept) could differ from one run to the next
+    v0 = np.random.default_rng(0).standard_normal(n)
     if project is None:
         op = factor.operator()
-        v0 = None
     else:
 
         def matvec(b: np.ndarray) -> np.ndarray:
             return project(factor.solve(b))
 
         op = spla.LinearOperator((n, n), matvec=matvec, dtype=float)
-        v0 = project(np.random.default_rng(0).standard_normal(n))
+        v0 = project(v0)
     w2, phi = spla.eigsh(K, M=M, k=k, sigma=factor.sigma, which="LM", OPinv=op, tol=tol, v0=v0)
     order = np.argsort(w2)
     return w2[order], phi[:, order]
