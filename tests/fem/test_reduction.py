@@ -135,3 +135,35 @@ def test_craig_bampton_is_reproducible(vehicle):
     assert runs[0].shapes.shape == runs[1].shapes.shape
     np.testing.assert_array_equal(runs[0].body.elastic_frequencies,
                                   runs[1].body.elastic_frequencies)
+
+
+def test_spectrum_slicing_finds_every_mode_of_a_one_shot_solution(vehicle):
+    """Every elastic mode below 40 Hz of the 0.5 m car body, found by slicing the spectrum,
+    equals the set of one shift-invert solution asking for all of them at once, with one and
+    with two BLAS threads. With one thread a close pair (28.404 / 28.413 Hz) fell on a slice
+    border and one of its modes was lost, before the border was taken with a margin and
+    repeats dropped by their shapes."""
+    import os
+
+    import scipy.sparse.linalg as sla
+
+    from flexride.fem.eigen import free_free_modes
+    from flexride.fem.rigid import rigid_body_vectors
+    from flexride.jobs.warmup import limit_blas_threads
+
+    model, _ = build_fe_model("carbody", vehicle, element_size=0.5)
+    K, M = model.assemble()
+    rigid = rigid_body_vectors(model.nodes)
+    try:
+        for threads in (1, 2):
+            limit_blas_threads(threads)
+            sliced = free_free_modes(K, M, rigid, f_max=40.0).frequencies
+            elastic = sliced[sliced > 1.0]
+            w2 = sla.eigsh(K, M=M, k=6 + elastic.size + 8, sigma=-1.0,
+                           return_eigenvectors=False)
+            one_shot = np.sort(np.sqrt(np.clip(w2, 0.0, None)) / (2 * np.pi))
+            one_shot = one_shot[(one_shot > 1.0) & (one_shot <= 40.0)]
+            assert elastic.size == one_shot.size, threads
+            np.testing.assert_allclose(elastic, one_shot, rtol=1e-7)
+    finally:
+        limit_blas_threads(os.cpu_count() or 1)

@@ -192,8 +192,12 @@ def _sliced(K, M, factor, w2_max, n_min, tol, project, window):
 
     Each slice asks for the ``window`` eigenvalues nearest to a shift; if they reach a distance
     ``d`` from the shift, every eigenvalue in ``[σ − d, σ + d)`` is among them. Slices are
-    chained from the bottom of the spectrum (the first uses the given factorisation), keeping
-    each eigenvalue once, until ``w2_max`` is passed.
+    chained from the bottom of the spectrum (the first uses the given factorisation) until
+    ``w2_max`` is passed. An eigenvalue on the border of two slices is computed in both with
+    round-off differences, so the border is taken with a small relative margin and the pairs
+    found twice are dropped by their eigenvectors (:func:`_drop_repeats`), not by value: a
+    value-only rule lost a mode of a close pair when its two computations fell on either side
+    of the border.
     """
     n = K.shape[0]
     k = int(min(window, n - 2))
@@ -212,7 +216,8 @@ def _sliced(K, M, factor, w2_max, n_min, tol, project, window):
             sigma_new = lower + 0.25 * (sigma - lower)
             sigma_f = ShiftInvert(K, M, sigma_new)
             continue
-        keep = (w2 >= lower) & (w2 < top)
+        margin = BORDER_MARGIN * max(abs(lower), abs(sigma)) if np.isfinite(lower) else 0.0
+        keep = (w2 >= lower - margin) & (w2 < top)
         found_w.append(w2[keep])
         found_v.append(phi[:, keep])
         count = sum(a.size for a in found_w)
@@ -222,12 +227,28 @@ def _sliced(K, M, factor, w2_max, n_min, tol, project, window):
         width = max(top - max(lower, w2.min()), 1e-6 * abs(top) + 1e-12)
         lower = top
         sigma_f = ShiftInvert(K, M, top + 0.45 * width)
-    w2 = np.concatenate(found_w)
-    phi = np.hstack(found_v)
-    order = np.argsort(w2)
-    w2, phi = w2[order], phi[:, order]
+    w2, phi = _drop_repeats(np.concatenate(found_w), np.hstack(found_v), M)
     keep = w2 <= w2_max
     keep[: min(n_min, keep.size)] = True
+    return w2[keep], phi[:, keep]
+
+
+BORDER_MARGIN = 1e-8
+"""Relative margin below a slice's lower border within which eigenvalues are taken again."""
+
+
+def _drop_repeats(w2: np.ndarray, phi: np.ndarray, M) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted eigenpairs without the ones found twice: a pair whose value is within
+    ``1e-6`` (relative) of an earlier one and whose mass-normalised shape is parallel to it
+    (|φᵢᵀMφⱼ| > 0.5) is the same mode; close values with orthogonal shapes are kept."""
+    order = np.argsort(w2)
+    w2, phi = w2[order], phi[:, order]
+    keep: list[int] = []
+    for j in range(w2.size):
+        close = [i for i in keep[-8:] if abs(w2[j] - w2[i]) <= 1e-6 * max(abs(w2[j]), 1e-30)]
+        if any(abs(float(phi[:, i] @ (M @ phi[:, j]))) > 0.5 for i in close):
+            continue
+        keep.append(j)
     return w2[keep], phi[:, keep]
 
 
