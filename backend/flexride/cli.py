@@ -233,12 +233,15 @@ def analyze(
 
 
 def _register_subcommands() -> None:
-    """Service commands (``serve``, ``worker``) and the finite-element tools (``fe``)."""
+    """Service commands (``serve``, ``worker``), the finite-element tools (``fe``) and the
+    contact-geometry tools (``contact``)."""
+    from flexride.contact_cli import contact_app
     from flexride.fe_cli import fe_app
     from flexride.service_cli import register
 
     register(app)
     app.add_typer(fe_app, name="fe")
+    app.add_typer(contact_app, name="contact")
 
 
 _register_subcommands()

@@ -6,9 +6,15 @@ and tabulated contact geometry.
 * :mod:`flexride.contact.creep` — compiled Kalker + Shen–Hedrick–Elkins creep forces.
 * :mod:`flexride.contact.geometry` — :class:`ContactTable`, the conical builder and the
   compiled interpolation / flange helpers.
+* :mod:`flexride.contact.profiles` — wheel and rail profiles (S1002, 60E1, file readers).
+* :mod:`flexride.contact.placement` — placement of the profiles in the track.
+* :mod:`flexride.contact.search` — rigid contact-point search over the lateral displacement.
+* :mod:`flexride.contact.profile_table` — two-point contact tables of a profile pair (cached).
+* :mod:`flexride.contact.conicity` — equivalent conicity (EN 15302 integration, harmonic).
 
 Importing this package compiles nothing: the numba functions compile on first call (and are
-cached on disk).
+cached on disk). The profile modules (profiles, placement, search, profile_table, conicity) are
+not imported here, so the solver's start-up does not load them; import them by module.
 """
 
 from __future__ import annotations
@@ -22,7 +28,7 @@ from flexride.contact.geometry import (
     flange_force,
     interp_uniform,
 )
-from flexride.contact.hertz import hertz_constant, hertz_ellipse, hertz_force
+from flexride.contact.hertz import hertz_constant, hertz_contact, hertz_ellipse, hertz_force
 from flexride.contact.kalker import creep_coefficients, kalker_coefficients, kalker_from_axes
 
 __all__ = [
@@ -34,6 +40,7 @@ __all__ = [
     "creep_forces",
     "flange_force",
     "hertz_constant",
+    "hertz_contact",
     "hertz_ellipse",
     "hertz_force",
     "interp_uniform",

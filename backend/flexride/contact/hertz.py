@@ -6,6 +6,9 @@ Units are SI throughout: lengths in m, forces in N, curvatures in 1/m, moduli in
 * :func:`hertz_force` — compiled scalar normal force P = (δ/G)^(3/2), zero in tension.
 * :func:`hertz_ellipse` — exact Hertz semi-axis factors from the relative curvatures, solved
   with the complete elliptic integrals (no table interpolation).
+* :func:`hertz_contact` — the same ellipse factors and the normal contact constant of Hertz
+  theory for those curvatures, G with P = (δ/G)^(3/2) (the theoretical counterpart of Zhai's
+  empirical G).
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from scipy.special import ellipe, ellipkm1
 from flexride._numba_env import FASTMATH
 from flexride.errors import ScenarioError
 
-__all__ = ["hertz_constant", "hertz_ellipse", "hertz_force"]
+__all__ = ["hertz_constant", "hertz_contact", "hertz_ellipse", "hertz_force"]
 
 # Zhai's empirical fits G = coef · R^expo · 1e-8 (m/N^(2/3), R in m), DESIGN §6.
 _ZHAI_G = {"worn": (3.86, -0.115), "conical": (4.57, -0.149)}
@@ -182,3 +185,47 @@ def hertz_ellipse(A: float, B: float, E: float, nu: float) -> tuple[float, float
     if curv_x <= curv_y:  # smaller curvature along x: the major axis is in rolling direction
         return m * scale, n * scale
     return n * scale, m * scale
+
+
+def hertz_contact(A: float, B: float, E: float, nu: float) -> tuple[float, float, float]:
+    """Hertz ellipse factors and normal contact constant for two bodies of the same material.
+
+    Parameters
+    ----------
+    A, B : float
+        Relative curvatures in the rolling (x–z) and lateral (y–z) planes in 1/m (> 0), as
+        for :func:`hertz_ellipse`.
+    E : float
+        Young's modulus in Pa (> 0).
+    nu : float
+        Poisson's ratio in [0, 0.5].
+
+    Returns
+    -------
+    ca, cb : float
+        Semi-axis factors in m/N^(1/3) (a = ca·N^(1/3) rolling, b = cb·N^(1/3) lateral).
+    G : float
+        Normal contact constant in m/N^(2/3): the normal approach is δ = G·N^(2/3), i.e.
+        N = (δ/G)^(3/2).
+
+    Notes
+    -----
+    With p0 = 3N/(2πab) and the major semi-axis a_M, the approach of two elastic half-spaces
+    is δ = p0·b_m·K(e)/E* = 3N·K(e)/(2π·a_M·E*), E* = E/(2(1 − ν²)), K the complete elliptic
+    integral of the first kind of the eccentricity e (Johnson, Contact Mechanics §4.2); for a
+    circle it is Hertz's δ = (9N²/(16E*²R))^(1/3).
+    """
+    curv_x = _check_positive("relative curvature A (1/m)", A)
+    curv_y = _check_positive("relative curvature B (1/m)", B)
+    modulus = _check_positive("Young's modulus E (Pa)", E)
+    nu = _check_poisson(nu)
+    k_sum = 2.0 * (1.0 - nu * nu) / (math.pi * modulus)
+    scale = (3.0 * math.pi * k_sum / (4.0 * (curv_x + curv_y))) ** (1.0 / 3.0)
+    cos_theta = abs(curv_x - curv_y) / (curv_x + curv_y)
+    m, n, k = _hertz_m_n(cos_theta)
+    e_star = modulus / (2.0 * (1.0 - nu * nu))
+    big_k = float(ellipkm1(k * k))  # K(e²) with e² = 1 − k²
+    g_const = 3.0 * big_k / (2.0 * math.pi * m * scale * e_star)
+    if curv_x <= curv_y:
+        return float(m * scale), float(n * scale), float(g_const)
+    return float(n * scale), float(m * scale), float(g_const)
