@@ -39,7 +39,7 @@ def main() -> None:
     from flexride.fem.flexible import build_flexible_body
     from flexride.fem.rigid import rigid_body_vectors
     from flexride.fem.vehicle_models import build_fe_model
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
 
     vehicle = load_preset("paper-metro").vehicle
     rows: list[tuple[str, float, float, str]] = []

@@ -43,7 +43,7 @@ import httpx
 
 ROOT = Path(__file__).resolve().parents[1]
 API = "/api/v1"
-SERVICE = [sys.executable, "-m", "flexride.service_cli"]
+SERVICE = [sys.executable, "-m", "flexride.cli.service"]
 STUDY_SPEEDS = [50, 55, 60, 65, 70, 75, 80, 85]
 
 
@@ -339,7 +339,7 @@ def latency(url: str, clients: int, duration: float, copies: int, kind: str,
 
 
 def _scenarios(duration: float) -> list:
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
 
     return [load_preset("paper-random-straight-80",
                         {"speed_kmh": float(v), "duration_s": duration, "distance_m": None})

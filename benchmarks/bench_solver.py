@@ -29,7 +29,7 @@ TARGET_S_PER_10S = 1.0
 def _fresh_process_time(cache_dir: str) -> float:
     code = (
         "import time; t=time.perf_counter();"
-        "from flexride.model.presets import load_preset;"
+        "from flexride.scenario.presets import load_preset;"
         "from flexride.solver.simulate import simulate;"
         "simulate(load_preset('paper-metro-random', {'duration_s': 0.01}));"
         "print(time.perf_counter()-t)"
@@ -93,7 +93,7 @@ def main() -> None:
                         help="skip the cold-compile and long-route runs; coarse flexible mesh")
     args = parser.parse_args()
 
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
     from flexride.solver.assemble import assemble
     from flexride.solver.simulate import simulate
     from flexride.solver.static import initial_window_start, static_equilibrium

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexride.model.presets import load_preset
-from flexride.model.scenario import Scenario
+from flexride.scenario.presets import load_preset
+from flexride.scenario.scenario import Scenario
 
 
 def preset(name: str = "paper-metro", **overrides: Any) -> Scenario:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import yaml
 
-from flexride.model.scenario import scenario_from_dict
+from flexride.scenario.scenario import scenario_from_dict
 from flexride.solver.simulate import simulate
 
 README = Path(__file__).resolve().parents[1] / "README.md"
@@ -41,8 +41,8 @@ def _doc_blocks(path: Path, lang: str) -> list[str]:
 
 def test_cli_examples_in_readme_and_docs_name_existing_commands_and_presets():
     from flexride.cli import app
-    from flexride.fe_cli import fe_app
-    from flexride.model.presets import PRESETS
+    from flexride.cli.fe import fe_app
+    from flexride.scenario.presets import PRESETS
 
     commands = {c.name or c.callback.__name__ for c in app.registered_commands}
     groups = {g.name for g in app.registered_groups}
@@ -117,7 +117,7 @@ def test_curl_examples_in_the_docs_run_against_the_api(tmp_path):
     from fastapi.testclient import TestClient
 
     from flexride.api import create_app
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
     from service.svc_testkit import (
         insert_finished_job,
         make_settings,

@@ -47,7 +47,7 @@ def test_not_a_results_file(tmp_path):
 
 
 def test_points_are_written_with_the_file_and_read_back(tmp_path):
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
 
     r = _results()
     r.scenario = load_preset("paper-metro", {"output.floor_grid_spacing_m": 3.0}).model_dump(
@@ -68,7 +68,7 @@ def test_points_are_written_with_the_file_and_read_back(tmp_path):
 def test_recorded_points_are_where_the_solver_puts_its_markers():
     """The rule that results files store is the one build_vehicle follows: every recorded
     point, in channel order, at its marker (CG position + marker offset)."""
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
     from flexride.vehicle.topology import build_vehicle, recorded_points
 
     sc = load_preset("paper-metro", {"output.floor_grid_spacing_m": 1.5, "output.points": [
@@ -84,7 +84,7 @@ def test_recorded_points_are_where_the_solver_puts_its_markers():
 
 
 def test_recorded_points_say_what_they_are_and_whether_they_are_on_the_floor(tmp_path):
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
     from flexride.vehicle.topology import PAPER_POINTS, recorded_points
 
     sc = load_preset("paper-metro", {"output.floor_grid_spacing_m": 3.0, "output.points": [
@@ -103,7 +103,7 @@ def test_recorded_points_say_what_they_are_and_whether_they_are_on_the_floor(tmp
 
 
 def test_files_of_format_2_get_descriptions_from_their_scenario(tmp_path):
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
 
     r = _results()
     r.scenario = load_preset("paper-metro").model_dump(mode="json")
@@ -117,7 +117,7 @@ def test_files_of_format_2_get_descriptions_from_their_scenario(tmp_path):
 
 
 def test_points_know_their_kind():
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
     from flexride.vehicle.topology import recorded_points
 
     sc = load_preset("paper-metro", {"output.floor_grid_spacing_m": 3.0, "output.points": [

@@ -1,6 +1,6 @@
 """flexride: ride comfort of metro vehicles with flexible bodies on flexible track.
 
-The package is organised as in ``docs/architecture.md``: schemas in :mod:`flexride.model`,
+The package is organised as in ``docs/architecture.md``: schemas in :mod:`flexride.scenario`,
 bodies in :mod:`flexride.bodies`, the vehicle topology in :mod:`flexride.vehicle`, track and
 excitation in :mod:`flexride.track`, wheel-rail contact in :mod:`flexride.contact`, the numba
 time integration in :mod:`flexride.solver` and the signal analysis in :mod:`flexride.analysis`.

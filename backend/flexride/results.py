@@ -245,7 +245,7 @@ def points_from_scenario(scenario: dict[str, Any]) -> list[dict[str, Any]]:
     """
     from pydantic import ValidationError
 
-    from flexride.model.scenario import Scenario
+    from flexride.scenario.scenario import Scenario
     from flexride.vehicle.topology import recorded_points
 
     try:

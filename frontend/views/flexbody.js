@@ -291,7 +291,8 @@ export default async function render(main, ctx) {
       if (r.status !== 202) return r.body;
       const b = r.body || {};
       const wait = Math.min(10, Math.max(1, r.retryAfter || b.retry_after_s || 3));
-      const what = b.status === "queued" ? "Waiting for another FE model to finish building" : `Building the FE model of the ${label}`;
+      // queued: the build job waits for a free worker (simulations and other builds share them)
+      const what = b.status === "queued" ? `Waiting for a free worker to build the FE model of the ${label}` : `Building the FE model of the ${label}`;
       card.loading(`${what} on the server…`);
       setChildren(meshMsg, notice("info", "Building the FE model – first time only",
         h("p", { id: "fe-building" }, `${what} (${fmt(b.elapsed_s ?? 0, 2)} s so far; about a minute for the 0.2 m car body). The model is kept, so this happens once per parameter set. Checking again in ${wait} s.`)));

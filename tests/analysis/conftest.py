@@ -69,7 +69,7 @@ def make_results(
 
 def paper_vehicle_points() -> list[dict]:
     """The recorded points of the paper's vehicle, as the solver writes them."""
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
     from flexride.vehicle.topology import recorded_points
 
     return [p.to_dict() for p in recorded_points(load_preset("paper-metro").vehicle)]

@@ -83,7 +83,7 @@ def test_list_filter_page_cancel_delete(client):
 
 
 def test_identical_scenario_reuses_stored_results_unless_opted_out(client):
-    from flexride.model.loading import resolve_scenario
+    from flexride.scenario.loading import resolve_scenario
     from flexride.study.scenarios import scenario_hash
 
     svc = services(client)

@@ -165,7 +165,7 @@ PAPER_POINTS = {"PR": (6.3, 0.0, 3.80), "PFB": (6.3, 0.0, 1.10), "PC": (0.0, 0.0
 def _paper_job(client, drop_points: bool = False):
     """A finished job whose file has the paper-metro scenario with a user point and a 2 m floor
     grid; with ``drop_points`` the file is made like one written before positions were stored."""
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
 
     svc = services(client)
     sc = load_preset("paper-metro", {"output.floor_grid_spacing_m": 2.0,

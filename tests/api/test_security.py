@@ -160,7 +160,7 @@ def test_serve_refuses_a_weak_token_in_one_line(token, monkeypatch):
     import typer
     import uvicorn
 
-    from flexride.service_cli import register
+    from flexride.cli.service import register
 
     monkeypatch.setattr(uvicorn, "run", lambda *a, **k: pytest.fail("the server started"))
     app = typer.Typer()

@@ -186,7 +186,7 @@ def test_job_fails_before_simulating_when_results_cannot_be_written(tmp_path, mo
                 pass
 
         sub = Submitter(store, files, _NoRunner(), settings)  # type: ignore[arg-type]
-        from flexride.model.loading import resolve_scenario
+        from flexride.scenario.loading import resolve_scenario
 
         job = sub.submit_job(resolve_scenario(**{"preset": "paper-metro",
                                                  "overrides": JOB["overrides"]})).job

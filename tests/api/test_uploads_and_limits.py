@@ -160,7 +160,7 @@ def test_fe_size_estimate_is_an_upper_bound_near_the_exact_count():
     """The estimate against exact counts of the paper's car body (meshed here at 0.1 m)."""
     from flexride.fem.size import estimated_dofs
     from flexride.fem.vehicle_models import build_fe_model
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
 
     vehicle = load_preset("paper-metro").vehicle
     exact = build_fe_model("carbody", vehicle, element_size=0.1)[0].n_dof

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from flexride.model.presets import load_preset
+from flexride.scenario.presets import load_preset
 
 
 @pytest.fixture(scope="session")

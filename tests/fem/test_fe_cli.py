@@ -7,7 +7,7 @@ import json
 import typer
 from typer.testing import CliRunner
 
-from flexride.fe_cli import fe_app
+from flexride.cli.fe import fe_app
 
 app = typer.Typer()
 app.add_typer(fe_app, name="fe")

@@ -132,7 +132,7 @@ def test_bad_arguments(vehicle, module_cache, kwargs):
 def test_scenario_rayleigh_damping_reaches_the_solver(module_cache):
     """`bodies.frames.damping_model: rayleigh` gives each frame mode ζ = α/(2ω) + βω/2 with
     ζ = damping_ratio at the first two elastic modes; the assembled system carries c = 2ζω."""
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
     from flexride.solver.assemble import assemble
 
     sc = load_preset("paper-metro", {"duration_s": 0.1, "bodies.frames.model": "flexible",

@@ -1,10 +1,11 @@
 """End to end through Celery: a real Redis broker (127.0.0.1:6379), real `flexride worker`
 processes, PostgreSQL as the shared job store (127.0.0.1:5432, database test).
 
-The same short job as through the embedded runner, a study of three jobs, cancellation of a
-running job, a worker child killed with SIGKILL mid-job (the message is requeued and the job
-retried) and a whole worker killed with SIGKILL (the reaper requeues the job after the
-heartbeat timeout and a new worker finishes it). These tests fail, never skip, when Redis or
+The same short job as through the embedded runner, an FE export built by a worker (a job of
+kind fe_export), a study of three jobs, cancellation of a running job, a worker child killed
+with SIGKILL mid-job (the message is requeued and the job retried) and a whole worker killed
+with SIGKILL (the reaper requeues the job after the heartbeat timeout and a new worker
+finishes it). These tests fail, never skip, when Redis or
 PostgreSQL is down.
 """
 
@@ -43,6 +44,8 @@ class Cluster:
         self.queue = f"flexride-test-{uuid.uuid4().hex[:8]}"
         self.values = {"FLEXRIDE_BROKER_URL": redis_url(9), "FLEXRIDE_DATABASE_URL": db_url,
                        "FLEXRIDE_DATA_DIR": str(tmp / "data"),
+                       # shared with the API (make_settings: <data>/cache): FE exports
+                       "FLEXRIDE_CACHE_DIR": str(tmp / "data" / "cache"),
                        "FLEXRIDE_CELERY_QUEUE": self.queue,
                        "FLEXRIDE_HEARTBEAT_INTERVAL_S": "1",
                        "FLEXRIDE_HEARTBEAT_TIMEOUT_S": str(HEARTBEAT_TIMEOUT_S),
@@ -140,6 +143,28 @@ def test_celery_job_end_to_end(cluster):
     health = c.get(f"{API}/health").json()
     assert health["broker"]["ok"] and health["runner"] == "celery"
     assert any(w["kind"] == "celery" and w["alive"] for w in health["workers"])
+
+
+def test_celery_fe_export_job(cluster):
+    """``GET /fe/carbody``: the export is built by a Celery worker as a job of kind fe_export
+    (a real coarse car body), written to the shared cache directory and served by the API."""
+    c = cluster.client
+    params = {"element_size_m": 0.5, "cutoff_hz": 25, "max_modes": 4}
+    r = c.get(f"{API}/fe/carbody", params=params)
+    if r.status_code == 202:
+        job = cluster.final(r.json()["job_id"])
+        assert job["status"] == "succeeded", (job, cluster.worker_log())
+        r = c.get(f"{API}/fe/carbody", params=params)
+    assert r.status_code == 200, r.text
+    model = r.json()["model"]
+    assert (model["element_size_m"], model["cutoff_hz"], len(r.json()["modes"])) == (0.5, 25.0, 4)
+    (job,) = c.get(f"{API}/jobs", params={"kind": "fe_export"}).json()["items"]
+    assert job["runner"] == "celery" and job["worker"].startswith("celery-")
+    assert job["status"] == "succeeded" and job["scenario_hash"] == model["key"]
+    cache = cluster.tmp / "data" / "cache"
+    assert list(cache.glob(f"fe-export-*/{model['key']}.json"))
+    assert not model["from_cache"] and list(cache.glob("fem-*/*.npz"))  # the worker's FE cache
+    assert all(j["kind"] == "simulation" for j in c.get(f"{API}/jobs").json()["items"])
 
 
 def test_celery_study_of_three_jobs(cluster):

@@ -7,6 +7,7 @@ stop interrupts a job and the next start finishes it (nothing lost across a rest
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import warnings
@@ -101,3 +102,58 @@ def test_embedded_runner_end_to_end(tmp_path):
         assert client.get(f"{API}/jobs/{job_id}/download").status_code == 200
         job = _final(client, stop_id, 180.0)
         assert job["status"] == "succeeded" and job["attempts"] == 1, job
+
+
+def test_fe_export_job_on_the_embedded_runner(tmp_path, monkeypatch):
+    """``GET /fe/carbody`` for a model not built yet: a job of kind fe_export that a worker
+    process builds (a real coarse car body, 0.5 m elements, modes to 30 Hz) with progress in
+    its record; the API serves the file it wrote — the same JSON as ``flexride fe export`` —
+    and other modes of the body come from the FE cache the worker filled."""
+    from typer.testing import CliRunner
+
+    from flexride.cli.fe import fe_app
+
+    data = tmp_path / "data"
+    params = {"element_size_m": 0.5, "cutoff_hz": 30, "max_modes": 6}
+    with _client(data, fe_wait_s=0.0) as client:
+        r = client.get(f"{API}/fe/carbody", params=params)
+        assert r.status_code == 202, r.text
+        job_id = r.json()["job_id"]
+        seen: list[tuple[str, str]] = []
+
+        def built():
+            r = client.get(f"{API}/fe/carbody", params=params)
+            if r.status_code == 202:
+                assert r.json()["job_id"] == job_id  # one job, however often asked for
+                seen.append((r.json()["status"], r.json()["message"]))
+            return r.status_code != 202 and r
+
+        r = wait_for(built, 180.0, 0.1, "the FE export")
+        assert r.status_code == 200, r.text
+        got = r.json()
+        model = got.pop("model")
+        assert (model["element_size_m"], model["cutoff_hz"], model["max_modes"]) == (0.5, 30.0, 6)
+        assert not model["from_cache"] and model["n_elastic_modes"] >= len(got["modes"]) == 6
+        assert len(got["nodes"]) > 500
+        assert any(s == "building" and m.startswith("building the FE model of the car body")
+                   for s, m in seen), seen
+        job = _job(client, job_id)
+        assert job["kind"] == "fe_export" and job["status"] == "succeeded", job
+        assert job["worker"].startswith("embedded-") and job["attempts"] == 1
+        _, pid, _ = parse_worker_name(job["worker"])
+        assert pid != os.getpid()  # built in a worker process, not in the API
+        # other modes of the same body: a new job, loaded from the FE cache of the service
+        client.app.state.services.fe.wait_s = 60.0
+        r = client.get(f"{API}/fe/carbody", params={**params, "max_modes": 2})
+        assert r.status_code == 200 and r.json()["model"]["from_cache"] is True
+        assert len(r.json()["modes"]) == 2
+        listed = client.get(f"{API}/jobs", params={"kind": "fe_export"}).json()
+        assert listed["total"] == 2 and client.get(f"{API}/jobs").json()["total"] == 0
+        cache_dir = client.app.state.services.settings.cache_dir
+    # the same JSON as `flexride fe export` (its own process, the same FE cache)
+    monkeypatch.setenv("FLEXRIDE_CACHE_DIR", str(cache_dir))
+    out = tmp_path / "carbody.json"
+    res = CliRunner().invoke(fe_app, ["export", "carbody", "--element-size", "0.5", "--cutoff",
+                                      "30", "--n-modes", "6", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert got == json.loads(out.read_text())

@@ -13,12 +13,14 @@ import subprocess
 import sys
 import time
 import uuid
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from flexride.jobs.base import JobRunner
 from flexride.results import Results
 from flexride.settings import Settings
 from flexride.store import Job, JobStore, ResultFiles, now
@@ -134,7 +136,7 @@ def wait_for(predicate: Callable[[], Any], timeout: float, interval: float = 0.2
 
 def service_command() -> list[str]:
     """How to run ``flexride serve|worker``: the CLI when it has the commands, else
-    ``python -m flexride.service_cli`` (same functions)."""
+    ``python -m flexride.cli.service`` (same functions)."""
     try:
         from flexride.cli import app
 
@@ -146,7 +148,7 @@ def service_command() -> list[str]:
                 return [str(exe)]
     except Exception:
         pass
-    return [sys.executable, "-m", "flexride.service_cli"]
+    return [sys.executable, "-m", "flexride.cli.service"]
 
 
 def free_port() -> int:
@@ -194,36 +196,112 @@ def services(client: Any) -> Any:
     return client.app.state.services
 
 
-def fake_fe_export(spec: Any, dest: str) -> dict[str, Any]:
-    """Stand-in for :func:`flexride.fem.export.run_export_job`: writes a one-quad export that
-    follows the real export's layout (and its ``model`` block) at once."""
-    import json
-
+def fake_fe_export(spec: Any, progress: Callable[[float, str], None] | None = None
+                   ) -> dict[str, Any]:
+    """Stand-in for :func:`flexride.fem.export.build_export` (the ``fe_build`` of a
+    :class:`~flexride.study.run_job.JobContext`): a one-quad export that follows the real
+    export's layout (and its ``model`` block), at once."""
+    if progress is not None:
+        progress(0.5, "building the FE model of the stand-in")
     model = {**spec.parameters(), "key": spec.key, "n_nodes": 4, "n_elastic_modes": 1,
              "frequencies_hz": [5.0], "from_cache": False, "build_seconds": 0.0}
-    data = {"units": {"length": "m", "frequency": "Hz"},
+    return {"units": {"length": "m", "frequency": "Hz"},
             "nodes": [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]],
             "quads": [[0, 1, 3, 2]], "beams": [], "named_nodes": {},
             "modes": [{"index": 1, "frequency_hz": 5.0, "classification": "", "scale_m": 0.01,
                        "displacements": [[0.0, 0.0, 1.0]] * 4}][:spec.max_modes],
             "model": model}
-    Path(dest).parent.mkdir(parents=True, exist_ok=True)
-    Path(dest).write_text(json.dumps(data), encoding="utf-8")
-    return {"ok": True, "model": model, "seconds": 0.0}
+
+
+def write_fake_export(path: Path, spec: Any) -> None:
+    """Put the stand-in export of ``spec`` at ``path`` (as if a job had built it)."""
+    import json
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(fake_fe_export(spec)), encoding="utf-8")
+
+
+def fe_job_context(svc: Any, build: Callable[..., dict[str, Any]] = fake_fe_export,
+                   worker: str | None = None) -> Any:
+    """A :class:`~flexride.study.run_job.JobContext` of this process for an app's services
+    whose FE export jobs run ``build`` (a stand-in of ``build_export``)."""
+    from flexride.jobs.presence import worker_name
+    from flexride.study.run_job import JobContext
+
+    return JobContext(store=svc.store, files=svc.files, settings=svc.settings,
+                      worker=worker or worker_name("inline"), fe_build=build)
+
+
+def run_fe_jobs(client: Any, build: Callable[..., dict[str, Any]] = fake_fe_export
+                ) -> dict[str, str]:
+    """Run the queued FE export jobs of an app (runner ``none``) in this process, through
+    :func:`flexride.study.run_job.claim_and_run` with ``build``; their final states by id."""
+    from flexride.study.run_job import claim_and_run
+
+    svc = getattr(client, "app", client).state.services
+    ctx = fe_job_context(svc, build)
+    queued, _ = svc.store.list_jobs(status="queued", kind="fe_export", limit=500)
+    return {row.id: claim_and_run(row.id, ctx) for row in reversed(queued)}
+
+
+class InlineFERunner(JobRunner):
+    """A runner for API tests: FE export jobs run in a thread of this process through
+    :func:`flexride.study.run_job.claim_and_run` (the workers' code path) with a stand-in
+    build; simulation jobs are recorded, not run (as with runner ``none``)."""
+
+    kind = "none"
+
+    def __init__(self, svc: Any, build: Callable[..., dict[str, Any]] = fake_fe_export):
+        self.svc = svc
+        self.ctx = fe_job_context(svc, build)
+        self.pool: ThreadPoolExecutor | None = None
+        self.ran: list[str] = []
+
+    def start(self) -> None:
+        """Nothing to start (the thread starts with the first job)."""
+
+    def stop(self) -> None:
+        """Wait for the job in progress (an app's lifespan may start the runner again)."""
+        pool, self.pool = self.pool, None
+        if pool is not None:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+    def submit(self, job_ids: Sequence[str]) -> None:
+        """Run the FE export jobs among ``job_ids`` (one at a time, in a thread)."""
+        from flexride.study.run_job import claim_and_run
+
+        for job_id in job_ids:
+            job = self.svc.store.get_job(job_id)
+            if job is not None and job.kind == "fe_export":
+                if self.pool is None:
+                    self.pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="inline-fe")
+                self.ran.append(job_id)
+                self.pool.submit(claim_and_run, job_id, self.ctx)
+
+    def status(self) -> dict[str, Any]:
+        """Always healthy."""
+        return {"kind": self.kind, "ok": True, "detail": "FE jobs run in the test process"}
 
 
 def use_fe_builds(client: Any, build: Callable[..., dict[str, Any]] = fake_fe_export,
                   **kw: Any) -> Any:
-    """Give an app (or a TestClient's app) FE builds that run ``build`` in a thread (not a
-    process); returns the new :class:`flexride.api.services.fe.FEBuilds`."""
-    from concurrent.futures import ThreadPoolExecutor
-
-    from flexride.api.services.fe import FEBuilds
-
+    """Let an app (or a TestClient's app) with runner ``none`` run its FE export jobs in this
+    process (:class:`InlineFERunner`) with ``build``; ``kw`` sets attributes of its
+    :class:`flexride.api.services.fe.FEExports` (``wait_s`` defaults to 0). Returns the
+    runner."""
     svc = getattr(client, "app", client).state.services
-    svc.fe.stop()
+    runner = InlineFERunner(svc, build)
+    svc.runner = svc.submitter.runner = runner
+    svc.reaper.runner = runner
     kw.setdefault("wait_s", 0.0)
-    svc.fe = FEBuilds(svc.settings.cache_dir,
-                      executor_factory=lambda: ThreadPoolExecutor(max_workers=1), build=build,
-                      **kw)
-    return svc.fe
+    for name, value in kw.items():
+        if not hasattr(svc.fe, name):
+            raise AttributeError(f"FEExports has no {name!r}")
+        setattr(svc.fe, name, value)
+    return runner
+
+
+def fe_jobs(client: Any) -> list[Any]:
+    """The FE export jobs of an app, newest first."""
+    svc = getattr(client, "app", client).state.services
+    return svc.store.list_jobs(kind="fe_export", limit=500)[0]

@@ -11,7 +11,7 @@ import httpx
 import typer
 from typer.testing import CliRunner
 
-from flexride.service_cli import register
+from flexride.cli.service import register
 from service.svc_testkit import (
     free_port,
     service_command,

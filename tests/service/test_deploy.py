@@ -14,7 +14,7 @@ import pytest
 import typer
 import yaml
 
-from flexride.service_cli import register
+from flexride.cli.service import register
 from flexride.settings import Settings
 from service.svc_testkit import REPO
 

@@ -6,7 +6,7 @@ import pytest
 
 from conftest import preset
 from flexride.errors import ScenarioError, StabilityError, UnknownPresetError
-from flexride.model.presets import load_preset
+from flexride.scenario.presets import load_preset
 from flexride.solver.simulate import simulate
 
 

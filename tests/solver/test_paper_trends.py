@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from flexride.analysis import linear_regression
-from flexride.model.presets import PAPER_SPEEDS_KMH, load_preset
+from flexride.scenario.presets import PAPER_SPEEDS_KMH, load_preset
 from flexride.solver import simulate
 
 

@@ -85,3 +85,30 @@ def test_a_store_made_before_alembic_is_adopted_with_its_rows(engine):
     assert {d[0] for d in diffs} <= {"add_index", "add_fk", "modify_nullable"}, diffs
     # (SQLite reports a VARCHAR primary key of hand-written DDL as nullable)
     assert all(d[3] in ("wall_time_s", "id") for d in diffs if d[0] == "modify_nullable"), diffs
+
+
+def test_revision_0004_makes_every_existing_job_a_simulation(engine):
+    """A store at revision 0003 with a job gets the ``kind`` column, ``simulation`` for the
+    rows it has; new rows without a kind get it too (server default)."""
+    from alembic import command
+
+    from flexride.store.db import _alembic
+
+    with engine.begin() as conn:
+        command.upgrade(_alembic(conn), "0003")
+    assert current_revision(engine) == "0003"
+    columns = ("id, name, status, progress, message, created_at, updated_at, runner, attempts, "
+               "max_attempts, cancel_requested, scenario_hash, axes, run_meta, scenario")
+    row = ("'{id}', 'old job', 'succeeded', 1.0, 'done', 1.0, 2.0, 'embedded', 1, 2, false, "
+           "'h', '{{}}', '{{}}', '{{}}'")
+    with engine.begin() as conn:
+        conn.execute(text(f"INSERT INTO flexride_jobs ({columns}) VALUES "
+                          f"({row.format(id='a')})"))
+    init_db(engine)
+    assert current_revision(engine) == head_revision() == "0004"
+    assert _differences(engine) == []
+    with engine.begin() as conn:
+        conn.execute(text(f"INSERT INTO flexride_jobs ({columns}) VALUES "
+                          f"({row.format(id='b')})"))
+        kinds = dict(conn.execute(text("SELECT id, kind FROM flexride_jobs")).all())
+    assert kinds == {"a": "simulation", "b": "simulation"}

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from flexride.errors import ScenarioError
-from flexride.model.presets import PAPER_CONDITIONS, preset_dict
+from flexride.scenario.presets import PAPER_CONDITIONS, preset_dict
 from flexride.study.expand import StudyTooLarge, expand_study, merge_with_preset
 from flexride.study.presets import STUDY_PRESETS, study_preset
 

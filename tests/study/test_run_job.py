@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 
 from flexride.errors import ResultsFileError
-from flexride.model.loading import resolve_scenario
 from flexride.results import Results
+from flexride.scenario.loading import resolve_scenario
 from flexride.store import Job, JobStore, ResultFiles, now
 from flexride.study.run_job import JobContext, claim_and_run
 from flexride.study.scenarios import scenario_hash

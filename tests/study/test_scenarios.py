@@ -6,7 +6,7 @@ import pytest
 
 import flexride.study.scenarios as sc
 from flexride.errors import ScenarioError, StabilityError
-from flexride.model.loading import check_finite, resolve_scenario, safe_overrides
+from flexride.scenario.loading import check_finite, resolve_scenario, safe_overrides
 from flexride.study.scenarios import (
     PreflightCache,
     check_submission,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from flexride.errors import ScenarioError
-from flexride.model.excitation import Corrugation
+from flexride.scenario.excitation import Corrugation
 from flexride.track.defects import corrugation_profile, settlement_profile
 from flexride.track.excitation import build_profile
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from flexride.errors import ScenarioError
-from flexride.model.excitation import (
+from flexride.scenario.excitation import (
     Corrugation,
     MeasuredIrregularity,
     RandomIrregularity,

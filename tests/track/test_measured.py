@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from flexride.errors import ScenarioError
-from flexride.model.excitation import MeasuredIrregularity
+from flexride.scenario.excitation import MeasuredIrregularity
 from flexride.track.excitation import build_profile
 from flexride.track.measured import (
     MeasuredSources,
@@ -105,8 +105,8 @@ def test_row_checks_name_the_row(rows, needle):
 
 
 def test_errors_are_located_at_the_excitation_in_a_scenario(tmp_path):
-    from flexride.model.presets import preset_dict
-    from flexride.model.scenario import scenario_from_dict
+    from flexride.scenario.presets import preset_dict
+    from flexride.scenario.scenario import scenario_from_dict
     from flexride.solver.assemble import assemble
 
     data = preset_dict("paper-metro")

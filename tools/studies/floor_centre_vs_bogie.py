@@ -24,7 +24,7 @@ import numpy as np
 
 from flexride.fem.defaults import default_carbody_params
 from flexride.fem.flexible import build_flexible_body
-from flexride.model.presets import load_preset
+from flexride.scenario.presets import load_preset
 from flexride.solver.simulate import simulate
 from flexride.vehicle.topology import build_vehicle
 

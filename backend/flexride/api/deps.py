@@ -9,7 +9,7 @@ from typing import Annotated
 from fastapi import Depends, HTTPException, Request, Security
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
-from flexride.api.services.fe import FEBuilds
+from flexride.api.services.fe import FEExports
 from flexride.jobs.base import JobRunner
 from flexride.jobs.reaper import Reaper
 from flexride.settings import Settings
@@ -28,7 +28,7 @@ class Services:
     runner: JobRunner
     submitter: Submitter
     reaper: Reaper
-    fe: FEBuilds
+    fe: FEExports
     uploads: UploadStore
 
 

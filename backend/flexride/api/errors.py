@@ -35,7 +35,7 @@ from flexride.errors import (
     StabilityError,
     StorageError,
 )
-from flexride.model.scenario import allowed_range
+from flexride.scenario.scenario import allowed_range
 from flexride.store.probe import db_fault, is_storage_oserror, os_fault
 
 log = logging.getLogger(__name__)

@@ -29,7 +29,7 @@ from flexride.api.errors import ERROR_RESPONSES, SafeJSONResponse, install_error
 from flexride.api.middleware import BodySizeLimit, MethodNotAllowed, TrustedHosts
 from flexride.api.routes import api_router
 from flexride.api.schemas import ErrorResponse
-from flexride.api.services.fe import FEBuilds
+from flexride.api.services.fe import FEExports
 from flexride.api.services.jobs import sweep_deleted
 from flexride.jobs.factory import make_runner
 from flexride.jobs.reaper import Reaper
@@ -50,7 +50,7 @@ TAGS = [
     {"name": "studies", "description": "Job matrices over speeds, conditions, body models and "
      "parameters, with tables ready to plot."},
     {"name": "fe", "description": "FE meshes and mode shapes of the flexible car body and "
-     "bogie frames, by model parameters or of a job, built in the background."},
+     "bogie frames, by model parameters or of a job, built by jobs of kind fe_export."},
     {"name": "uploads", "description": "Measured track irregularities uploaded as CSV, "
      "stored by content hash and referred to by that id in scenarios."},
     {"name": "presets", "description": "Named scenarios and JSON schemas."},
@@ -60,7 +60,7 @@ TAGS = [
 
 def build_services(settings: Settings) -> Services:
     """Create the store (schema created or migrated), files, runner, submitter, reaper and the
-    FE export builds."""
+    FE exports (served from files, built by ``fe_export`` jobs of the runner)."""
     store = JobStore.from_url(settings.effective_database_url, create=True)
     files = ResultFiles(settings.results_dir,
                         cache_bytes=int(settings.result_cache_mb * 1024 * 1024))
@@ -68,7 +68,8 @@ def build_services(settings: Settings) -> Services:
     submitter = Submitter(store, files, runner, settings)
     return Services(settings=settings, store=store, files=files, runner=runner,
                     submitter=submitter, reaper=Reaper(store, runner, settings),
-                    fe=FEBuilds(settings.cache_dir, wait_s=settings.fe_wait_s),
+                    fe=FEExports(store, submitter, settings.cache_dir,
+                                 wait_s=settings.fe_wait_s),
                     uploads=submitter.uploads)
 
 
@@ -200,7 +201,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         sweep_deleted(services)
         services.runner.start()
         services.reaper.start()
-        services.fe.start()
         log.info("flexride API %s: runner %s, store %s, results in %s", __version__,
                  services.runner.kind, services.store.engine.url.render_as_string(),
                  services.files.root)
@@ -209,7 +209,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         finally:
             services.reaper.stop()
             services.runner.stop()
-            services.fe.stop()
 
     app = FastAPI(
         title="flexride",

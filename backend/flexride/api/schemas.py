@@ -8,6 +8,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
+JobKind = Literal["simulation", "fe_export"]
 BodyModelName = Literal["rigid", "flexible"]
 
 _NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9 _.+-]{0,79}$"
@@ -83,6 +84,8 @@ class JobOut(BaseModel):
     """State of a job."""
 
     id: str
+    kind: JobKind = Field("simulation", description="simulation, or fe_export (the build of "
+                          "an FE mesh and mode-shape export served by GET /fe/{kind})")
     name: str
     status: JobStatus
     progress: float = Field(description="Fraction done (0–1)")
@@ -604,10 +607,14 @@ class FEExport(BaseModel):
 class FEBuildStatus(BaseModel):
     """An FE export that is not ready yet (202)."""
 
-    status: Literal["queued", "building"]
+    status: Literal["queued", "building"] = Field(
+        description="queued: the build job waits for a worker; building: it runs")
     key: str = Field(description="Content key of the export")
     parameters: dict[str, Any] = Field(description="kind, reduction, cutoff_hz, "
                                        "element_size_m, max_modes")
+    job_id: str | None = Field(None, description="The build job (kind fe_export): GET "
+                               "/jobs/{id} follows it, POST /jobs/{id}/cancel cancels it")
+    progress: float = Field(0.0, description="Fraction of the build done (0–1)")
     elapsed_s: float = Field(description="Seconds since the build was requested")
     retry_after_s: int = Field(description="Ask again after this many seconds "
                                "(also the Retry-After header)")

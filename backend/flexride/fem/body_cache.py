@@ -41,7 +41,7 @@ def vehicle_body_inputs(kind, vehicle, method, cutoff_hz, element_size, extra_po
     ----------
     kind : {"carbody", "frame"}
         Which model.
-    vehicle : flexride.model.vehicle.Vehicle
+    vehicle : flexride.scenario.vehicle.Vehicle
         Vehicle parameters (suspension geometry, inertia target).
     method : str
         Reduction method.

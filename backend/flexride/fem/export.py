@@ -9,9 +9,11 @@ The service's export adds a ``model`` block that says what was built, and is det
 :class:`ExportSpec`: body kind, vehicle parameters (inertia targets and suspension geometry) and
 the body-model settings of a scenario (``bodies.carbody`` / ``bodies.frames``: reduction,
 cut-off, element size) plus the number of modes exported; it is keyed by content and written to
-a file atomically. The API builds exports in a separate process (:func:`run_export_job`) through
-the FE cache (:mod:`flexride.fem.cache`), so a body that a job already built is exported in a
-fraction of a second, and serves the files (``flexride.api.services.fe``).
+a file atomically (:func:`write_export`, :func:`export_path`). The service builds exports as
+jobs of kind ``fe_export`` (:mod:`flexride.study.run_job`, in the job runner's worker processes)
+through the FE cache (:mod:`flexride.fem.cache`), so a body that a job already built is
+exported in a fraction of a second; the API only serves the files
+(``flexride.api.services.fe``).
 """
 
 from __future__ import annotations
@@ -19,16 +21,17 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import time
+from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from flexride.errors import FlexrideError
+from flexride.errors import FEModelError
 from flexride.fileio import write_bytes_atomic
-from flexride.model.bodies import BodyModel
-from flexride.model.vehicle import Vehicle
+from flexride.scenario.bodies import BodyModel
+from flexride.scenario.vehicle import Vehicle
 
 #: Body kinds with an FE model, and the field of ``scenario.bodies`` that configures each.
 BODY_FIELDS: dict[str, str] = {"carbody": "carbody", "frame": "frames"}
@@ -36,6 +39,11 @@ BODY_FIELDS: dict[str, str] = {"carbody": "carbody", "frame": "frames"}
 EXPORT_FORMAT = 1
 #: Default number of exported modes (as ``flexride fe export --n-modes``).
 DEFAULT_MAX_MODES = 12
+#: What a body kind is called in messages.
+BODY_LABELS: dict[str, str] = {"carbody": "car body", "frame": "bogie frame"}
+
+Progress = Callable[[float, str], None]
+"""``progress(fraction, message)`` of a build."""
 
 
 def export_mesh(
@@ -117,7 +125,7 @@ class ExportSpec:
     kind : {"carbody", "frame"}
         Which FE model.
     vehicle : dict
-        Vehicle parameters (JSON form of :class:`~flexride.model.vehicle.Vehicle`).
+        Vehicle parameters (JSON form of :class:`~flexride.scenario.vehicle.Vehicle`).
     reduction : {"modal", "guyan", "craig-bampton"}
         Reduction of the FE model.
     cutoff_hz : float
@@ -167,19 +175,53 @@ class ExportSpec:
         text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
 
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> ExportSpec:
+        """The spec stored as ``asdict(spec)`` (an FE export job's ``scenario``).
+
+        Raises
+        ------
+        FEModelError
+            When ``data`` is not such a spec.
+        """
+        fields = ("kind", "vehicle", "reduction", "cutoff_hz", "element_size_m", "max_modes")
+        try:
+            if set(data) != set(fields) or data["kind"] not in BODY_FIELDS:
+                raise ValueError(f"fields {sorted(data)}")
+            return cls(kind=str(data["kind"]), vehicle=dict(data["vehicle"]),
+                       reduction=str(data["reduction"]), cutoff_hz=float(data["cutoff_hz"]),
+                       element_size_m=float(data["element_size_m"]),
+                       max_modes=int(data["max_modes"]))
+        except (TypeError, ValueError, KeyError) as exc:
+            raise FEModelError(f"not an FE export spec: {exc}") from None
+
     def parameters(self) -> dict[str, Any]:
         """The body-model parameters (names and units of the scenario's ``bodies`` schema)."""
         return {"kind": self.kind, "reduction": self.reduction, "cutoff_hz": self.cutoff_hz,
                 "element_size_m": self.element_size_m, "max_modes": self.max_modes}
 
 
-def build_export(spec: ExportSpec) -> dict[str, Any]:
+def export_path(cache_dir: str | os.PathLike[str], key: str) -> Path:
+    """Where the service keeps the export of content key ``key``:
+    ``<cache_dir>/fe-export-<version>/<key>.json``."""
+    from flexride import __version__
+
+    return Path(cache_dir) / f"fe-export-{__version__}" / f"{key}.json"
+
+
+def _no_progress(_fraction: float, _message: str) -> None:
+    pass
+
+
+def build_export(spec: ExportSpec, progress: Progress = _no_progress) -> dict[str, Any]:
     """Build (or load from the FE cache) the body of ``spec`` and export it.
 
     Parameters
     ----------
     spec : ExportSpec
         What to build.
+    progress : callable, optional
+        ``progress(fraction, message)``, told when the build and the export start.
 
     Returns
     -------
@@ -197,9 +239,12 @@ def build_export(spec: ExportSpec) -> dict[str, Any]:
     from flexride.fem.flexible import build_flexible_body
 
     vehicle = Vehicle.model_validate(spec.vehicle)
+    progress(0.05, f"building the FE model of the {BODY_LABELS[spec.kind]} (mesh, eigenmodes, "
+             f"{spec.reduction} reduction; loaded from the FE cache when a job built it)")
     fb = build_flexible_body(spec.kind, vehicle, method=spec.reduction,  # type: ignore[arg-type]
                              cutoff_hz=spec.cutoff_hz, element_size=spec.element_size_m,
                              name=spec.kind)
+    progress(0.9, f"exporting the mesh and {spec.max_modes} mode shapes")
     data = fb.export(max_modes=spec.max_modes)
     freqs = [float(f) for f in fb.body.elastic_frequencies]
     data["model"] = {
@@ -214,7 +259,8 @@ def build_export(spec: ExportSpec) -> dict[str, Any]:
     return data
 
 
-def write_export(spec: ExportSpec, dest: str | os.PathLike[str]) -> dict[str, Any]:
+def write_export(spec: ExportSpec, dest: str | os.PathLike[str],
+                 progress: Progress = _no_progress) -> dict[str, Any]:
     """Build the export of ``spec`` and write it to ``dest`` atomically (temporary file in the
     same directory, then rename).
 
@@ -224,49 +270,20 @@ def write_export(spec: ExportSpec, dest: str | os.PathLike[str]) -> dict[str, An
         What to build.
     dest : path-like
         The JSON file to write; parent directories are created.
+    progress : callable, optional
+        ``progress(fraction, message)`` (see :func:`build_export`).
 
     Returns
     -------
     dict
         The export's ``model`` block.
     """
-    data = build_export(spec)
-    text = json.dumps(data, separators=(",", ":"), allow_nan=False)
-    write_bytes_atomic(dest, text.encode("utf-8"))
+    data = build_export(spec, progress)
+    write_json_atomic(dest, data)
     return data["model"]
 
 
-def init_build_process(cache_dir: str) -> None:
-    """Initialiser of a build process: the FE cache under ``cache_dir`` (the service's
-    ``FLEXRIDE_CACHE_DIR``) and one BLAS thread (the process shares the machine with the API
-    and the job workers)."""
-    os.environ["FLEXRIDE_CACHE_DIR"] = str(cache_dir)
-    from flexride.jobs.warmup import limit_blas_threads, single_threaded_env
-
-    single_threaded_env()
-    limit_blas_threads(1)
-
-
-def run_export_job(spec: ExportSpec, dest: str) -> dict[str, Any]:
-    """Build and write one export (the function a build process runs).
-
-    Parameters
-    ----------
-    spec : ExportSpec
-        What to build.
-    dest : str
-        The JSON file to write.
-
-    Returns
-    -------
-    dict
-        ``{"ok": True, "model": {...}, "seconds": s}``, or ``{"ok": False, "error": message,
-        "type": exception class}`` when the parameters do not give an FE model
-        (:class:`~flexride.errors.FlexrideError`). Other exceptions propagate.
-    """
-    t0 = time.perf_counter()
-    try:
-        model = write_export(spec, dest)
-    except FlexrideError as exc:
-        return {"ok": False, "error": str(exc), "type": type(exc).__name__}
-    return {"ok": True, "model": model, "seconds": time.perf_counter() - t0}
+def write_json_atomic(dest: str | os.PathLike[str], data: dict[str, Any]) -> None:
+    """Write an export (compact JSON, no NaN) to ``dest`` atomically."""
+    text = json.dumps(data, separators=(",", ":"), allow_nan=False)
+    write_bytes_atomic(dest, text.encode("utf-8"))

@@ -57,7 +57,7 @@ def build_flexible_body(
     ----------
     kind : {"carbody", "frame"}
         Which default FE model.
-    vehicle : flexride.model.vehicle.Vehicle
+    vehicle : flexride.scenario.vehicle.Vehicle
         Vehicle parameters: inertia targets (mass, CG height, Ixx/Iyy/Izz) and suspension
         geometry (bogie spacing, spring positions and heights).
     method : {"guyan", "craig-bampton", "modal"}

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from flexride.model.vehicle import Vehicle
+from flexride.scenario.vehicle import Vehicle
 
 REFERENCE_ELEMENT_SIZE_M = 0.25
 """Car-body element size (m) at which degrees of freedom are counted exactly."""

@@ -60,7 +60,7 @@ def warm_numba() -> float:
     """
     t0 = time.perf_counter()
     try:
-        from flexride.model.presets import load_preset
+        from flexride.scenario.presets import load_preset
         from flexride.solver import simulate
 
         scenario = load_preset("paper-random-straight-80",

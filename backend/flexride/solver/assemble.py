@@ -13,7 +13,7 @@ import numpy as np
 from flexride.contact.geometry import ContactTable, conical_table
 from flexride.contact.hertz import hertz_constant
 from flexride.errors import ScenarioError
-from flexride.model.scenario import Scenario
+from flexride.scenario.scenario import Scenario
 from flexride.results import Channel
 from flexride.solver import system as S
 from flexride.track.excitation import build_profile

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from flexride.model.scenario import Scenario
+from flexride.scenario.scenario import Scenario
 from flexride.solver.assemble import channel_layout, output_rate_for
 from flexride.vehicle.topology import build_vehicle, carbody_output_points
 

@@ -9,7 +9,7 @@ from collections.abc import Callable
 import numpy as np
 
 from flexride.errors import SimulationCancelled, SimulationError
-from flexride.model.scenario import Scenario
+from flexride.scenario.scenario import Scenario
 from flexride.results import Results
 from flexride.solver import system as S
 from flexride.solver.assemble import Assembly, assemble

@@ -3,11 +3,12 @@
 
 from flexride.store.db import create_store_engine, get_engine, init_db
 from flexride.store.files import ChannelData, ResultFiles
-from flexride.store.models import FINAL_STATUSES, JOB_STATUSES, Job, Study, WorkerSeen
+from flexride.store.models import FINAL_STATUSES, JOB_KINDS, JOB_STATUSES, Job, Study, WorkerSeen
 from flexride.store.repository import Claim, JobStore, now
 
 __all__ = [
     "FINAL_STATUSES",
+    "JOB_KINDS",
     "JOB_STATUSES",
     "ChannelData",
     "Claim",

@@ -10,11 +10,15 @@ from __future__ import annotations
 
 from typing import Any, ClassVar
 
-from sqlalchemy import JSON, Boolean, Float, ForeignKey, Index, Integer, String, Text
+from sqlalchemy import JSON, Boolean, Float, ForeignKey, Index, Integer, String, Text, text
 from sqlalchemy.orm import DeclarativeBase, Mapped, deferred, mapped_column
 
 JOB_STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINAL_STATUSES = ("succeeded", "failed", "cancelled")
+JOB_KINDS = ("simulation", "fe_export")
+"""What a job does: run a scenario (``simulation``), or build the browser export of an FE body
+(``fe_export``: its :class:`~flexride.fem.export.ExportSpec` is the job's ``scenario``, its
+content key the ``scenario_hash``)."""
 
 
 class Base(DeclarativeBase):
@@ -39,7 +43,8 @@ class Study(Base):
 
 
 class Job(Base):
-    """One simulation job: its scenario, state, progress, timings, summary and result file."""
+    """One job: its kind (:data:`JOB_KINDS`), scenario, state, progress, timings, summary and
+    result file."""
 
     __tablename__ = "flexride_jobs"
     __table_args__ = (
@@ -50,6 +55,8 @@ class Job(Base):
     )
 
     id: Mapped[str] = mapped_column(String(32), primary_key=True)
+    kind: Mapped[str] = mapped_column(String(16), default="simulation",
+                                      server_default=text("'simulation'"))
     name: Mapped[str] = mapped_column(String(120))
     status: Mapped[str] = mapped_column(String(16), index=True)
     progress: Mapped[float] = mapped_column(Float, default=0.0)

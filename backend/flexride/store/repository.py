@@ -8,18 +8,23 @@ or deleted meanwhile.
 
 from __future__ import annotations
 
+import hashlib
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
 
-from sqlalchemy import CursorResult, Engine, Result, delete, func, select, update
+from sqlalchemy import CursorResult, Engine, Result, delete, func, select, text, update
 from sqlalchemy.orm import Session, defer, sessionmaker, undefer
 
 from flexride.store.db import get_engine, init_db, writer
 from flexride.store.models import FINAL_STATUSES, Job, Study, WorkerSeen
 
 DeadWorker = Callable[[str], bool]
+
+ACTIVE_STATUSES = ("queued", "running")
+"""States of a job that is still to run or running."""
+_PG_KEY_LOCKS = 0x464C5853  # "FLXS": advisory locks of add_unless_active (one per content key)
 
 LIST_COLUMNS = tuple(c for c in Job.__table__.c if c.name not in ("scenario", "summary"))
 """Columns of a job in lists: all but the large JSON scenario and summary."""
@@ -58,6 +63,11 @@ class Claim:
 def _rows(result: Result[Any]) -> int:
     """Rows an UPDATE or DELETE touched (``Session.execute`` returns a CursorResult for them)."""
     return int(cast(CursorResult[Any], result).rowcount)
+
+
+def _key_int32(key: str) -> int:
+    """A signed 32-bit number from a content key (a PostgreSQL advisory lock's second key)."""
+    return int.from_bytes(hashlib.sha256(key.encode()).digest()[:4], "big", signed=True)
 
 class JobStore:
     """Job, study and worker records in a SQL database.
@@ -128,15 +138,58 @@ class JobStore:
         with self.engine.connect() as conn:
             return conn.execute(q).scalar_one_or_none()
 
+    def add_unless_active(self, job: Job) -> tuple[Job, bool]:
+        """Insert ``job`` unless a job of its kind and ``scenario_hash`` is queued or running;
+        in one transaction, so concurrent callers (threads, API processes) add one job per
+        key however often they ask.
+
+        Returns
+        -------
+        (Job, bool)
+            The new job and True, or the active job found and False.
+        """
+        with self.writing() as s, s.begin():
+            if s.get_bind().dialect.name == "postgresql":  # SQLite: BEGIN IMMEDIATE serialises
+                s.execute(text("SELECT pg_advisory_xact_lock(:a, :b)"),
+                          {"a": _PG_KEY_LOCKS, "b": _key_int32(job.scenario_hash)})
+            q = (select(Job)
+                 .where(Job.kind == job.kind, Job.scenario_hash == job.scenario_hash,
+                        Job.status.in_(ACTIVE_STATUSES))
+                 .order_by(Job.created_at)
+                 .limit(1))
+            active = s.scalars(q).first()
+            if active is not None:
+                return active, False
+            s.add(job)
+            return job, True
+
+    def latest_job(self, kind: str, scenario_hash: str) -> Job | None:
+        """The newest job of ``kind`` with this ``scenario_hash`` (any status), or None."""
+        q = (select(Job)
+             .where(Job.kind == kind, Job.scenario_hash == scenario_hash)
+             .order_by(Job.created_at.desc(), Job.id)
+             .limit(1))
+        with self.reading() as s:
+            return s.scalars(q).first()
+
+    def count_active(self, kind: str) -> int:
+        """Number of queued or running jobs of ``kind``."""
+        q = (select(func.count()).select_from(Job)
+             .where(Job.kind == kind, Job.status.in_(ACTIVE_STATUSES)))
+        with self.engine.connect() as conn:
+            return int(conn.execute(q).scalar_one())
+
     def list_jobs(
         self,
         *,
         status: str | None = None,
         study_id: str | None = None,
+        kind: str | None = "simulation",
         limit: int = 50,
         offset: int = 0,
     ) -> tuple[list[Any], int]:
-        """Jobs newest first with optional filters, and the total count matching them.
+        """Jobs newest first with optional filters (``kind`` None: every kind), and the total
+        count matching them.
 
         The page is read as plain rows (no ORM objects) of the columns of :class:`Job` other
         than the large JSON ``scenario`` and ``summary`` (:data:`LIST_COLUMNS`), with the
@@ -148,6 +201,8 @@ class JobStore:
             q, cq = q.where(Job.status == status), cq.where(Job.status == status)
         if study_id is not None:
             q, cq = q.where(Job.study_id == study_id), cq.where(Job.study_id == study_id)
+        if kind is not None:
+            q, cq = q.where(Job.kind == kind), cq.where(Job.kind == kind)
         q = q.order_by(Job.created_at.desc(), Job.id).limit(limit).offset(offset)
         with self.engine.connect() as conn:
             items = list(conn.execute(q))
@@ -162,13 +217,13 @@ class JobStore:
         with self.reading() as s:
             return list(s.scalars(q))
 
-    def find_reusable(self, scenario_hash: str) -> Job | None:
-        """The newest succeeded job with this scenario hash and a result file."""
+    def find_reusable(self, scenario_hash: str, kind: str = "simulation") -> Job | None:
+        """The newest succeeded job of ``kind`` with this scenario hash and a result file."""
         q = (
             select(Job)
             .options(undefer(Job.summary))
-            .where(Job.scenario_hash == scenario_hash, Job.status == "succeeded",
-                   Job.result_file.is_not(None))
+            .where(Job.kind == kind, Job.scenario_hash == scenario_hash,
+                   Job.status == "succeeded", Job.result_file.is_not(None))
             .order_by(Job.finished_at.desc())
             .limit(1)
         )

@@ -16,9 +16,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from flexride.errors import ErrorItem, ScenarioError
-from flexride.model.excitation import MeasuredIrregularity
-from flexride.model.scenario import Scenario, located_error
-from flexride.model.vehicle import Vehicle
+from flexride.scenario.excitation import MeasuredIrregularity
+from flexride.scenario.scenario import Scenario, located_error
+from flexride.scenario.vehicle import Vehicle
 from flexride.settings import Settings
 from flexride.solver.estimate import RunEstimate, count_output_points, count_steps, estimate_run
 from flexride.track.measured import MeasuredSources, load_measured

@@ -13,9 +13,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from flexride.errors import ScenarioError
-from flexride.model.loading import safe_overrides
-from flexride.model.presets import PAPER_CONDITIONS, preset_dict
-from flexride.model.scenario import Scenario, resolve_preset_base, scenario_from_dict
+from flexride.scenario.loading import safe_overrides
+from flexride.scenario.presets import PAPER_CONDITIONS, preset_dict
+from flexride.scenario.scenario import Scenario, resolve_preset_base, scenario_from_dict
 from flexride.study.presets import study_preset
 
 

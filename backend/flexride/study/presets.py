@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexride.errors import ScenarioError
-from flexride.model.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH
+from flexride.scenario.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH
 
 STUDY_PRESETS: dict[str, dict[str, Any]] = {
     "paper-table3": {

@@ -20,7 +20,7 @@ from collections import OrderedDict
 from typing import Any
 
 from flexride.errors import FlexrideError, ScenarioError, StabilityError
-from flexride.model.scenario import Scenario
+from flexride.scenario.scenario import Scenario
 
 
 def canonical_json(data: Any) -> str:

@@ -1,17 +1,18 @@
 """Submission: turn validated scenarios into job records (or reuse stored results) and hand
-the queued ones to the runner. Used by the API for single jobs and for studies."""
+the queued ones to the runner. Used by the API for single jobs, for studies and for the
+builds of FE exports (jobs of kind ``fe_export``)."""
 
 from __future__ import annotations
 
 import logging
 import uuid
 from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING, Any
 
 from flexride.errors import StorageError
 from flexride.jobs.base import JobRunner
-from flexride.model.scenario import Scenario
+from flexride.scenario.scenario import Scenario
 from flexride.settings import Settings
 from flexride.solver.estimate import RunEstimate
 from flexride.store import Job, JobStore, ResultFiles, Study, now
@@ -20,6 +21,9 @@ from flexride.store.uploads import UploadStore
 from flexride.study.admission import Limits, admit
 from flexride.study.expand import StudyPlan
 from flexride.study.scenarios import PREFLIGHT, PreflightCache, check_submission, scenario_hash
+
+if TYPE_CHECKING:
+    from flexride.fem.export import ExportSpec
 
 log = logging.getLogger(__name__)
 
@@ -146,3 +150,33 @@ class Submitter:
                       axes=[ax.describe() for ax in plan.axes], spec=plan.request)
         self._add(subs, study)
         return study, subs
+
+    def submit_fe_export(self, spec: ExportSpec) -> tuple[Job, bool]:
+        """Queue the build of an FE export (a job of kind ``fe_export``) unless one for the
+        same content key is already queued or running: one job per key however often (and
+        from however many API processes) it is asked for.
+
+        The job's ``scenario`` is the spec (``asdict(spec)``), its ``scenario_hash`` the
+        spec's content key; the size limits of the build are the caller's to check
+        (:func:`flexride.study.admission.check_fe_build`).
+
+        Returns
+        -------
+        (Job, bool)
+            The new job and True, or the queued or running job of that key and False.
+        """
+        from flexride.fem.export import BODY_LABELS
+
+        t = now()
+        name = (f"FE export: {BODY_LABELS[spec.kind]}, {spec.element_size_m:g} m elements, "
+                f"{spec.cutoff_hz:g} Hz, {spec.reduction}")
+        job = Job(id=new_id(), kind="fe_export", name=name[:120], status="queued",
+                  progress=0.0, message="queued", created_at=t, updated_at=t,
+                  runner=self.runner.kind, max_attempts=self.settings.max_attempts,
+                  attempts=0, cancel_requested=False, scenario_hash=spec.key,
+                  scenario=asdict(spec), axes={}, run_meta={})
+        job, created = self.store.add_unless_active(job)
+        if created:
+            log.info("FE export %s: job %s queued (%s)", spec.key, job.id, spec.parameters())
+            self.runner.submit([job.id])
+        return job, created

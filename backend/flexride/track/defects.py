@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from flexride.errors import ScenarioError
-from flexride.model.excitation import Rails
+from flexride.scenario.excitation import Rails
 from flexride.track.profile import (
     DEFAULT_DS,
     POINTS_PER_WAVELENGTH,
@@ -124,7 +124,7 @@ def corrugation_profile(
     corrugated_length_m : float, optional
         Length of the corrugated stretch (m); default to the end of the route. It is rounded
         down to a whole number of wavelengths (at least one), so the profile ends smoothly.
-        (The schema field :attr:`~flexride.model.excitation.Corrugation.length_m`.)
+        (The schema field :attr:`~flexride.scenario.excitation.Corrugation.length_m`.)
     rails : {"both", "left", "right"}
         Corrugated rail(s).
     ds : float, optional

@@ -1,6 +1,6 @@
 """The track excitation of a scenario as one rail irregularity profile.
 
-:func:`build_profile` turns the excitation schema objects (:mod:`flexride.model.excitation`)
+:func:`build_profile` turns the excitation schema objects (:mod:`flexride.scenario.excitation`)
 into an :class:`~flexride.track.profile.IrregularityProfile` on one grid and sums them: random
 irregularity (:mod:`flexride.track.spectra`, with its fade-in), corrugation and settlement
 (:mod:`flexride.track.defects`) and measured data (:mod:`flexride.track.measured` reads and
@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from flexride.errors import ScenarioError
-from flexride.model.excitation import (
+from flexride.scenario.excitation import (
     Corrugation,
     MeasuredIrregularity,
     RandomIrregularity,
@@ -46,7 +46,7 @@ from flexride.track.profile import (
 from flexride.track.spectra import GERMAN_HALF_GAUGE, random_profile
 
 if TYPE_CHECKING:
-    from flexride.model.excitation import Excitation
+    from flexride.scenario.excitation import Excitation
 
 __all__ = ["build_profile", "measured_profile"]
 
@@ -62,7 +62,7 @@ def measured_profile(
     Parameters
     ----------
     path : str or pathlib.Path
-        CSV file; format in :class:`flexride.model.excitation.MeasuredIrregularity`: a header
+        CSV file; format in :class:`flexride.scenario.excitation.MeasuredIrregularity`: a header
         row, a distance column (m, strictly increasing) and any of ``vertical``,
         ``alignment``, ``cross_level`` (rail height difference z_left − z_right),
         ``gauge`` (y_left − y_right, widening positive), ``z_left``, ``z_right``, ``y_left``,
@@ -135,7 +135,7 @@ def build_profile(
     Parameters
     ----------
     excitations : iterable of Excitation
-        Schema objects (:mod:`flexride.model.excitation`); an empty list gives a flat track.
+        Schema objects (:mod:`flexride.scenario.excitation`); an empty list gives a flat track.
     length_m : float
         Route length (m); the grid runs from 0 to at least ``length_m``. Measured data beyond
         it are cut off.

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from flexride.model.line import CurvedLine, StraightLine
+from flexride.scenario.line import CurvedLine, StraightLine
 
 GRAVITY = 9.81
 

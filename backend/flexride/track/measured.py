@@ -1,6 +1,6 @@
 """Measured track irregularities: parsing, checking and where the data may come from.
 
-A :class:`~flexride.model.excitation.MeasuredIrregularity` gives its data in one of three
+A :class:`~flexride.scenario.excitation.MeasuredIrregularity` gives its data in one of three
 ways: ``path`` (a CSV file on the machine that runs the simulation: CLI and library),
 ``upload`` (the SHA-256 content hash of a CSV stored by the service, see
 :class:`flexride.store.uploads.UploadStore`) or ``columns`` + ``rows`` inline. All three end in
@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from flexride.errors import ErrorItem, ScenarioError
-from flexride.model.excitation import MeasuredIrregularity
+from flexride.scenario.excitation import MeasuredIrregularity
 
 __all__ = [
     "COMPONENT_COLUMNS",
@@ -155,7 +155,7 @@ def parse_measured_csv(data: bytes, source: str, distance_column: str = "distanc
     data : bytes
         The file's content: UTF-8 text (a BOM is allowed), comma separated, one header row,
         then one row per measurement point; blank lines and lines starting with ``#`` are
-        skipped. Format of the columns: :class:`~flexride.model.excitation.MeasuredIrregularity`.
+        skipped. Format of the columns: :class:`~flexride.scenario.excitation.MeasuredIrregularity`.
     source : str
         How messages name the data (a file name or ``upload <id>``; never a directory).
     distance_column : str

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from flexride.model.track import Track
+from flexride.scenario.track import Track
 
 
 @dataclass(frozen=True)

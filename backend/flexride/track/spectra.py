@@ -60,7 +60,7 @@ from scipy import fft as sp_fft
 from scipy import integrate, signal
 
 from flexride.errors import ScenarioError
-from flexride.model.excitation import IRREGULARITY_COMPONENTS
+from flexride.scenario.excitation import IRREGULARITY_COMPONENTS
 from flexride.track.profile import (
     POINTS_PER_WAVELENGTH,
     IrregularityProfile,

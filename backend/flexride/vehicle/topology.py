@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from flexride.bodies import ModalBody, rigid_body
-from flexride.model.solver import Output, OutputPoint
-from flexride.model.vehicle import Vehicle
+from flexride.scenario.solver import Output, OutputPoint
+from flexride.scenario.vehicle import Vehicle
 
 
 @dataclass(frozen=True)

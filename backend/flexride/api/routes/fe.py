@@ -10,7 +10,7 @@ from flexride.api.deps import ServicesDep, TokenOk
 from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport
 from flexride.api.services import fe as svc_fe
 from flexride.fem.export import DEFAULT_MAX_MODES, ExportSpec
-from flexride.model.bodies import BodyModel
+from flexride.scenario.bodies import BodyModel
 from flexride.study.admission import check_fe_build
 
 router = APIRouter(tags=["fe"])
@@ -44,10 +44,10 @@ RESPONSES: dict[int | str, dict[str, Any]] = {
     422: {"model": ErrorResponse,
           "description": "Invalid parameter (field path, allowed range), or parameters that "
           "give no FE model"},
-    401: {"model": ErrorResponse, "description": "The model is not built yet and starting its "
-          "build needs the API token (when the service has one)"},
-    503: {"model": ErrorResponse, "description": "The build failed or too many are queued; "
-          "ask again after Retry-After s"},
+    401: {"model": ErrorResponse, "description": "The model is not built yet and submitting "
+          "its build needs the API token (when the service has one)"},
+    503: {"model": ErrorResponse, "description": "The build job failed (not for a model "
+          "error) or too many are queued; ask again after Retry-After s"},
 }
 
 
@@ -68,10 +68,11 @@ def fe_model(
     ``flexride fe export`` writes them (plus ``model``: what was built).
 
     The parameters are those of a scenario's ``bodies.carbody`` / ``bodies.frames`` (same
-    names, units and ranges). 200 when the export exists or the body is in the FE cache; else
-    the build starts in the background (once per parameter set, however often it is asked
-    for) and the answer is 202 with ``Retry-After``: the first build of the 0.2 m car body
-    takes about a minute. Builds beyond the service's limits (``FLEXRIDE_MAX_FE_DOFS``,
+    names, units and ranges). 200 when the export exists; else its build is a job of kind
+    ``fe_export`` run by the service's workers (one job per parameter set, however often it
+    is asked for) and the answer is 202 with ``Retry-After`` and the job's state: the first
+    build of the 0.2 m car body takes about a minute, a body already in the FE cache a
+    fraction of a second. Builds beyond the service's limits (``FLEXRIDE_MAX_FE_DOFS``,
     ``FLEXRIDE_MAX_FE_CUTOFF_HZ``) are refused with 422 naming the parameter.
     """
     body = BodyModel(model="flexible", reduction=reduction, cutoff_hz=cutoff_hz,
@@ -88,8 +89,9 @@ def fe_model(
             summary="FE mesh and mode shapes of a job's flexible body")
 def job_fe_model(job_id: JobId, kind: Kind, svc: ServicesDep, may_build: TokenOk,
                  max_modes: MaxModes = DEFAULT_MAX_MODES) -> Response:
-    """The FE model of a job's flexible car body (``kind=carbody``) or bogie frames
+    """The FE model of a simulation job's flexible car body (``kind=carbody``) or bogie frames
     (``kind=frame``): its own vehicle and ``bodies`` settings, in any job state. Answers as
-    ``GET /fe/{kind}`` (200, 202 while building); 409 when the job's body is rigid."""
+    ``GET /fe/{kind}`` (200, 202 while building); 409 when the job's body is rigid or the job
+    is not a simulation."""
     return svc_fe.respond(svc.fe, svc_fe.job_spec(svc, job_id, kind, max_modes),
                           may_start=may_build)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Path, Query, Response
 
@@ -47,11 +47,15 @@ def list_jobs(
     svc: ServicesDep,
     status: Annotated[JobStatus | None, Query(description="Only jobs in this state")] = None,
     study_id: Annotated[str | None, Query(max_length=64, description="Only this study")] = None,
+    kind: Annotated[Literal["simulation", "fe_export", "all"], Query(
+        description="Only jobs of this kind: simulation (the default), fe_export (builds of "
+        "FE exports for GET /fe) or all")] = "simulation",
     limit: Annotated[int, Query(ge=1, le=500)] = 50,
     offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
 ) -> dict[str, Any]:
-    """Jobs newest first, filtered by status and study, a page at a time."""
-    return svc_jobs.list_jobs(svc, status, study_id, limit, offset)
+    """Jobs newest first, filtered by status, study and kind (simulations unless asked),
+    a page at a time."""
+    return svc_jobs.list_jobs(svc, status, study_id, limit, offset, kind)
 
 
 @router.get("/{job_id}", response_model=JobOut, summary="Job detail")

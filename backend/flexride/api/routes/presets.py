@@ -15,7 +15,7 @@ router = APIRouter(tags=["presets"])
 @router.get("/presets", response_model=list[PresetOut], summary="List presets")
 def list_presets() -> list[dict[str, Any]]:
     """The named scenarios (the paper's vehicle and track and its 16 conditions)."""
-    from flexride.model.presets import PRESETS
+    from flexride.scenario.presets import PRESETS
 
     return [{"name": k, "description": v.get("description", ""),
              "speed_kmh": v.get("speed_kmh")} for k, v in PRESETS.items()]
@@ -24,7 +24,7 @@ def list_presets() -> list[dict[str, Any]]:
 @router.get("/presets/{name}", response_model=dict[str, Any], summary="A preset's scenario")
 def get_preset(name: Annotated[str, Path(max_length=80)]) -> dict[str, Any]:
     """The full, validated scenario of a preset (every default filled in)."""
-    from flexride.model.presets import PRESETS, load_preset
+    from flexride.scenario.presets import PRESETS, load_preset
 
     if name not in PRESETS:
         raise NotFound(f"no preset {name!r}")
@@ -34,7 +34,7 @@ def get_preset(name: Annotated[str, Path(max_length=80)]) -> dict[str, Any]:
 @router.get("/schemas/scenario", response_model=dict[str, Any], summary="Scenario schema")
 def scenario_schema() -> dict[str, Any]:
     """JSON schema of a scenario: every field with its unit, default and allowed range."""
-    from flexride.model.scenario import Scenario
+    from flexride.scenario.scenario import Scenario
 
     return Scenario.model_json_schema()
 

@@ -12,7 +12,7 @@ from typing import Any, TypeVar
 from flexride.api.deps import Services
 from flexride.api.errors import Conflict, NotFound
 from flexride.api.schemas import JobCreate
-from flexride.model.loading import resolve_scenario
+from flexride.scenario.loading import resolve_scenario
 from flexride.settings import API_PREFIX
 from flexride.store import Job, now
 
@@ -49,7 +49,8 @@ def job_out(job: Job, svc: Services) -> dict[str, Any]:
         run = max(0.0, end - job.started_at)
     meta = job.run_meta or {}
     return {
-        "id": job.id, "name": job.name, "status": job.status, "progress": job.progress,
+        "id": job.id, "kind": job.kind, "name": job.name, "status": job.status,
+        "progress": job.progress,
         "message": job.message, "error": job.error, "created_at": iso(job.created_at),
         "started_at": iso(job.started_at), "finished_at": iso(job.finished_at),
         "updated_at": iso(job.updated_at), "queue_time_s": queue, "run_time_s": run,
@@ -108,9 +109,10 @@ def finished_job(svc: Services, job_id: str, *, summary: bool = False) -> Job:
 
 
 def list_jobs(svc: Services, status: str | None, study_id: str | None, limit: int,
-              offset: int) -> dict[str, Any]:
-    """A page of jobs."""
-    items, total = svc.store.list_jobs(status=status, study_id=study_id, limit=limit,
+              offset: int, kind: str = "simulation") -> dict[str, Any]:
+    """A page of jobs of one kind (``all``: every kind)."""
+    items, total = svc.store.list_jobs(status=status, study_id=study_id,
+                                       kind=None if kind == "all" else kind, limit=limit,
                                        offset=offset)
     return {"items": [job_out(j, svc) for j in items], "total": total, "limit": limit,
             "offset": offset}

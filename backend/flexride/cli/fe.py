@@ -46,7 +46,7 @@ def _fail(message: str) -> NoReturn:
 
 
 def _vehicle(preset: str):
-    from flexride.model.presets import load_preset
+    from flexride.scenario.presets import load_preset
 
     return load_preset(preset).vehicle
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
-from flexride.model.base import Schema, quantity
+from flexride.scenario.base import Schema, quantity
 
 
 class RigidInertia(Schema):

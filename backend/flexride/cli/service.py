@@ -1,7 +1,7 @@
 """``flexride serve`` and ``flexride worker``: the service commands of the CLI.
 
 :func:`register` adds them to flexride's typer app (``flexride.cli``). Without the CLI wiring
-the same commands run as ``python -m flexride.service_cli serve|worker``.
+the same commands run as ``python -m flexride.cli.service serve|worker``.
 
 * ``serve`` starts the API with uvicorn; without a broker it also starts the embedded runner
   (a pool of worker processes on this machine); records and results live under
@@ -130,7 +130,7 @@ def register(app: typer.Typer) -> None:
 
 
 def main() -> None:
-    """``python -m flexride.service_cli``: the two commands on their own."""
+    """``python -m flexride.cli.service``: the two commands on their own."""
     app = typer.Typer(add_completion=False, no_args_is_help=True,
                       help="flexride service commands")
     register(app)

@@ -8,8 +8,8 @@ import pytest
 import yaml
 
 from flexride.errors import ScenarioError
-from flexride.model.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH, PRESETS, preset_dict
-from flexride.model.scenario import Scenario, apply_overrides, load_scenario
+from flexride.scenario.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH, PRESETS, preset_dict
+from flexride.scenario.scenario import Scenario, apply_overrides, load_scenario
 
 
 def test_sixteen_paper_conditions_exist():
@@ -67,7 +67,7 @@ def test_unparsable_file(tmp_path):
 
 def test_every_numeric_field_has_its_unit_as_data():
     """Every numeric field carries ``unit`` in its JSON schema, and its description ends with
-    that unit (both from one argument of :func:`flexride.model.base.quantity`)."""
+    that unit (both from one argument of :func:`flexride.scenario.base.quantity`)."""
     schema = Scenario.model_json_schema()
     missing = []
     for name, d in schema["$defs"].items():

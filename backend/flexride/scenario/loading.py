@@ -1,4 +1,4 @@
-"""From what a user gives to a validated :class:`~flexride.model.scenario.Scenario`: a file
+"""From what a user gives to a validated :class:`~flexride.scenario.scenario.Scenario`: a file
 (YAML or JSON), a mapping (which may start from ``preset: NAME``) or a preset name, plus dotted
 overrides. One loader for the CLI, the API and studies, so the same input gives the same
 answer everywhere, and every failure is a :class:`~flexride.errors.ScenarioError` located at
@@ -18,7 +18,7 @@ from typing import Any
 import yaml
 
 from flexride.errors import ErrorItem, ScenarioError, UnknownPresetError
-from flexride.model.scenario import (
+from flexride.scenario.scenario import (
     Scenario,
     apply_overrides,
     resolve_preset_base,
@@ -148,7 +148,7 @@ def check_finite(value: Any, path: str = "") -> None:
 
 
 def _preset(name: str, loc: Loc) -> dict[str, Any]:
-    from flexride.model.presets import preset_dict
+    from flexride.scenario.presets import preset_dict
 
     try:
         return preset_dict(name)

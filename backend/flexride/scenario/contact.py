@@ -6,7 +6,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from flexride.model.base import Schema, quantity
+from flexride.scenario.base import Schema, quantity
 
 
 class Contact(Schema):

@@ -24,7 +24,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexride.errors import UnknownPresetError
-from flexride.model.scenario import Scenario, apply_overrides, scenario_from_dict
+from flexride.scenario.scenario import Scenario, apply_overrides, scenario_from_dict
 
 PAPER_SPEEDS_KMH = (50, 60, 70, 80)
 

@@ -7,7 +7,7 @@ import typing
 import pytest
 from pydantic import TypeAdapter, ValidationError
 
-from flexride.model.excitation import (
+from flexride.scenario.excitation import (
     Corrugation,
     Excitation,
     MeasuredIrregularity,

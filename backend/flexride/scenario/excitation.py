@@ -23,7 +23,7 @@ from typing import Annotated, Literal, Self
 
 from pydantic import Field, field_validator, model_validator
 
-from flexride.model.base import Schema, quantity
+from flexride.scenario.base import Schema, quantity
 
 __all__ = [
     "IRREGULARITY_COMPONENTS",

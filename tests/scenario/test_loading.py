@@ -6,13 +6,13 @@ from __future__ import annotations
 import pytest
 
 from flexride.errors import ScenarioError
-from flexride.model.loading import (
+from flexride.scenario.loading import (
     MAX_NESTING,
     read_scenario_file,
     resolve_scenario,
     safe_overrides,
 )
-from flexride.model.scenario import load_scenario
+from flexride.scenario.scenario import load_scenario
 
 
 @pytest.mark.parametrize(("kwargs", "loc"), [

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from flexride.model.base import Schema, quantity
+from flexride.scenario.base import Schema, quantity
 
 
 class Solver(Schema):

@@ -18,7 +18,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, Ti
 from rich.table import Table
 
 from flexride.errors import FlexrideError, ScenarioError
-from flexride.model.loading import parse_text
+from flexride.scenario.loading import parse_text
 
 app = typer.Typer(
     add_completion=False,
@@ -45,7 +45,7 @@ def _parse_set(items: list[str]) -> dict[str, Any]:
 
 
 def _load(scenario_file: Path | None, preset: str | None, overrides: dict[str, Any]):
-    from flexride.model.loading import read_scenario_file, resolve_scenario
+    from flexride.scenario.loading import read_scenario_file, resolve_scenario
 
     if (scenario_file is None) == (preset is None):
         raise ScenarioError("give either a scenario file or --preset NAME (not both)")
@@ -181,7 +181,7 @@ def run(
 @app.command()
 def presets(as_json: Annotated[bool, typer.Option("--json")] = False) -> None:
     """List the named scenarios."""
-    from flexride.model.presets import PRESETS
+    from flexride.scenario.presets import PRESETS
 
     rows = [
         {"name": k, "description": v.get("description", ""), "speed_kmh": v.get("speed_kmh")}
@@ -202,7 +202,7 @@ def presets(as_json: Annotated[bool, typer.Option("--json")] = False) -> None:
 @app.command()
 def schema() -> None:
     """Print the JSON schema of a scenario."""
-    from flexride.model.scenario import Scenario
+    from flexride.scenario.scenario import Scenario
 
     typer.echo(json.dumps(Scenario.model_json_schema(), indent=2))
 
@@ -235,9 +235,9 @@ def analyze(
 def _register_subcommands() -> None:
     """Service commands (``serve``, ``worker``), the finite-element tools (``fe``) and the
     contact-geometry tools (``contact``)."""
-    from flexride.contact_cli import contact_app
-    from flexride.fe_cli import fe_app
-    from flexride.service_cli import register
+    from flexride.cli.contact import contact_app
+    from flexride.cli.fe import fe_app
+    from flexride.cli.service import register
 
     register(app)
     app.add_typer(fe_app, name="fe")

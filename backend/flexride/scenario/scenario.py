@@ -9,14 +9,14 @@ from typing import Any
 from pydantic import Field, ValidationError, model_validator
 
 from flexride.errors import ErrorItem, ScenarioError
-from flexride.model.base import Schema, quantity
-from flexride.model.bodies import BodyModels
-from flexride.model.contact import Contact
-from flexride.model.excitation import Excitation
-from flexride.model.line import Line, StraightLine
-from flexride.model.solver import Output, Solver
-from flexride.model.track import Track
-from flexride.model.vehicle import Vehicle
+from flexride.scenario.base import Schema, quantity
+from flexride.scenario.bodies import BodyModels
+from flexride.scenario.contact import Contact
+from flexride.scenario.excitation import Excitation
+from flexride.scenario.line import Line, StraightLine
+from flexride.scenario.solver import Output, Solver
+from flexride.scenario.track import Track
+from flexride.scenario.vehicle import Vehicle
 from flexride.units import kmh_to_mps
 
 
@@ -122,7 +122,7 @@ def resolve_preset_base(data: dict[str, Any]) -> dict[str, Any]:
     """A scenario mapping may start from a preset: ``preset: NAME`` plus the fields to change."""
     if "preset" not in data:
         return data
-    from flexride.model.presets import preset_dict
+    from flexride.scenario.presets import preset_dict
 
     rest = {k: v for k, v in data.items() if k != "preset"}
     base = preset_dict(str(data["preset"]))
@@ -148,14 +148,14 @@ def scenario_from_dict(data: dict[str, Any], source: str = "scenario") -> Scenar
 
 def load_scenario(path: str | Path) -> Scenario:
     """Load a scenario from a YAML (``.yaml``/``.yml``) or JSON (``.json``) file (bounded
-    parsing, presets and located errors of :mod:`flexride.model.loading`).
+    parsing, presets and located errors of :mod:`flexride.scenario.loading`).
 
     Raises
     ------
     ScenarioError
         If the file is missing, unparsable or invalid (message names the field and range).
     """
-    from flexride.model.loading import read_scenario_file, resolve_scenario
+    from flexride.scenario.loading import read_scenario_file, resolve_scenario
 
     return resolve_scenario(read_scenario_file(path), source=Path(path).name)
 
