@@ -2,10 +2,20 @@
 
 from __future__ import annotations
 
-from datetime import datetime
-from typing import Any, Literal
+from datetime import UTC, datetime
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    computed_field,
+    field_validator,
+    model_validator,
+)
+
+from flexride.settings import API_PREFIX
 
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
 JobKind = Literal["simulation", "fe_export"]
@@ -80,8 +90,21 @@ class JobCreate(_Strict):
         return self
 
 
+def _utc(t: Any) -> Any:
+    """Epoch seconds (the store's times) as an aware UTC datetime; other values unchanged."""
+    if isinstance(t, int | float) and not isinstance(t, bool):
+        return datetime.fromtimestamp(float(t), tz=UTC)
+    return t
+
+
+Epoch = Annotated[datetime, BeforeValidator(_utc)]
+"""A time stored as UTC epoch seconds, shown as ISO 8601."""
+
+
 class JobOut(BaseModel):
-    """State of a job."""
+    """State of a job, read from its record (``JobOut.model_validate(job)``)."""
+
+    model_config = ConfigDict(from_attributes=True)
 
     id: str
     kind: JobKind = Field("simulation", description="simulation, or fe_export (the build of "
@@ -91,13 +114,10 @@ class JobOut(BaseModel):
     progress: float = Field(description="Fraction done (0–1)")
     message: str = Field(description="Last progress message")
     error: str | None = Field(None, description="Why the job failed")
-    created_at: datetime
-    started_at: datetime | None = None
-    finished_at: datetime | None = None
-    updated_at: datetime
-    queue_time_s: float | None = Field(None, description="Time waiting for a worker (s)")
-    run_time_s: float | None = Field(None, description="Time running so far or in all (s)")
-    solver_wall_time_s: float | None = Field(None, description="Solver loop wall time (s)")
+    created_at: Epoch
+    started_at: Epoch | None = None
+    finished_at: Epoch | None = None
+    updated_at: Epoch
     attempts: int = Field(description="Times a worker started the job")
     max_attempts: int
     runner: str
@@ -111,8 +131,49 @@ class JobOut(BaseModel):
     study_id: str | None = None
     study_index: int | None = None
     axes: dict[str, Any] = Field(default_factory=dict, description="Study axis values")
-    has_results: bool
-    links: dict[str, str] = Field(default_factory=dict)
+    run_meta: dict[str, Any] | None = Field(None, exclude=True)
+    result_file: str | None = Field(None, exclude=True)
+
+    @field_validator("axes", mode="before")
+    @classmethod
+    def _no_axes(cls, value: Any) -> Any:
+        return value or {}
+
+    @computed_field(description="Time waiting for a worker (s)")  # type: ignore[prop-decorator]
+    @property
+    def queue_time_s(self) -> float | None:
+        if self.started_at is not None:
+            return max(0.0, (self.started_at - self.created_at).total_seconds())
+        if self.status == "queued":
+            return max(0.0, (datetime.now(UTC) - self.created_at).total_seconds())
+        return None
+
+    @computed_field(description="Time running so far or in all (s)")  # type: ignore[prop-decorator]
+    @property
+    def run_time_s(self) -> float | None:
+        if self.started_at is None:
+            return None
+        end = self.finished_at or datetime.now(UTC)
+        return max(0.0, (end - self.started_at).total_seconds())
+
+    @computed_field(description="Solver loop wall time (s)")  # type: ignore[prop-decorator]
+    @property
+    def solver_wall_time_s(self) -> float | None:
+        value = (self.run_meta or {}).get("wall_time_solve_s")
+        return None if value is None else float(value)
+
+    @computed_field(description="The job has results to read")  # type: ignore[prop-decorator]
+    @property
+    def has_results(self) -> bool:
+        return self.status == "succeeded" and self.result_file is not None
+
+    @computed_field(description="URLs of the job's resources")  # type: ignore[prop-decorator]
+    @property
+    def links(self) -> dict[str, str]:
+        base = f"{API_PREFIX}/jobs/{self.id}"
+        return {"self": base, "summary": f"{base}/summary", "channels": f"{base}/channels",
+                "series": f"{base}/series", "spectrum": f"{base}/spectrum",
+                "download": f"{base}/download"}
 
 
 class JobSubmitted(JobOut):

@@ -18,7 +18,7 @@ JobId = Annotated[str, Path(min_length=1, max_length=64, description="Job id")]
 @router.post("", status_code=201, response_model=JobSubmitted, dependencies=AUTH,
              summary="Submit a simulation job",
              responses={401: {"description": "Bearer token missing or wrong"}})
-def submit_job(body: JobCreate, svc: ServicesDep) -> dict[str, Any]:
+def submit_job(body: JobCreate, svc: ServicesDep) -> JobSubmitted:
     """Submit ``{"scenario": {...}}`` or ``{"preset": NAME, "overrides": {...}}``.
 
     The scenario is validated (422 with field paths and allowed ranges) and checked for
@@ -59,7 +59,7 @@ def list_jobs(
 
 
 @router.get("/{job_id}", response_model=JobOut, summary="Job detail")
-def get_job(job_id: JobId, svc: ServicesDep) -> dict[str, Any]:
+def get_job(job_id: JobId, svc: ServicesDep) -> JobOut:
     """Status, progress and message, timings, attempts, error text."""
     return svc_jobs.job_out(svc_jobs.get_job(svc, job_id), svc)
 
@@ -73,7 +73,7 @@ def get_scenario(job_id: JobId, svc: ServicesDep) -> dict[str, Any]:
 @router.post("/{job_id}/cancel", response_model=JobOut, dependencies=AUTH,
              summary="Cancel a job",
              responses={401: {"description": "Bearer token missing or wrong"}})
-def cancel_job(job_id: JobId, svc: ServicesDep) -> dict[str, Any]:
+def cancel_job(job_id: JobId, svc: ServicesDep) -> JobOut:
     """A queued job is cancelled at once, a running one within about a second."""
     return svc_jobs.cancel_job(svc, job_id)
 

@@ -11,10 +11,9 @@ from typing import Any, TypeVar
 
 from flexride.api.deps import Services
 from flexride.api.errors import Conflict, NotFound
-from flexride.api.schemas import JobCreate
+from flexride.api.schemas import JobCreate, JobOut, JobSubmitted
 from flexride.scenario.loading import resolve_scenario
-from flexride.settings import API_PREFIX
-from flexride.store import Job, now
+from flexride.store import Job
 
 T = TypeVar("T")
 
@@ -27,45 +26,12 @@ def iso(t: float | None) -> datetime | None:
     return None if t is None else datetime.fromtimestamp(t, tz=UTC)
 
 
-def job_links(job_id: str) -> dict[str, str]:
-    """URLs of a job's resources."""
-    base = f"{API_PREFIX}/jobs/{job_id}"
-    return {"self": base, "summary": f"{base}/summary", "channels": f"{base}/channels",
-            "series": f"{base}/series", "spectrum": f"{base}/spectrum",
-            "download": f"{base}/download"}
+def job_out(job: Job, svc: Services) -> JobOut:
+    """The API view of a job record."""
+    return JobOut.model_validate(job)
 
 
-def job_out(job: Job, svc: Services) -> dict[str, Any]:
-    """The API view of a job record (``JobOut``)."""
-    t = now()
-    queue = None
-    if job.started_at is not None:
-        queue = max(0.0, job.started_at - job.created_at)
-    elif job.status == "queued":
-        queue = max(0.0, t - job.created_at)
-    run = None
-    if job.started_at is not None:
-        end = job.finished_at if job.finished_at is not None else t
-        run = max(0.0, end - job.started_at)
-    meta = job.run_meta or {}
-    return {
-        "id": job.id, "kind": job.kind, "name": job.name, "status": job.status,
-        "progress": job.progress,
-        "message": job.message, "error": job.error, "created_at": iso(job.created_at),
-        "started_at": iso(job.started_at), "finished_at": iso(job.finished_at),
-        "updated_at": iso(job.updated_at), "queue_time_s": queue, "run_time_s": run,
-        "solver_wall_time_s": meta.get("wall_time_solve_s"), "attempts": job.attempts,
-        "max_attempts": job.max_attempts, "runner": job.runner, "worker": job.worker,
-        "cancel_requested": job.cancel_requested, "preset": job.preset,
-        "speed_kmh": job.speed_kmh, "duration_s": job.duration_s,
-        "scenario_hash": job.scenario_hash, "reused_from": job.reused_from,
-        "study_id": job.study_id, "study_index": job.study_index, "axes": job.axes or {},
-        "has_results": job.status == "succeeded" and job.result_file is not None,
-        "links": job_links(job.id),
-    }
-
-
-def create_job(svc: Services, body: JobCreate) -> dict[str, Any]:
+def create_job(svc: Services, body: JobCreate) -> JobSubmitted:
     """Validate, check and queue a job (or finish it at once from reused results)."""
     scenario = resolve_scenario(body.scenario, body.preset, body.overrides)
     if body.name:
@@ -74,7 +40,8 @@ def create_job(svc: Services, body: JobCreate) -> dict[str, Any]:
     sub = svc.submitter.submit_job(scenario, name=body.name or scenario.name,
                                    preset=preset if isinstance(preset, str) else None,
                                    reuse=body.reuse)
-    return {**job_out(sub.job, svc), "reused": sub.reused, "preflight": sub.preflight}
+    return JobSubmitted.model_validate(sub.job).model_copy(
+        update={"reused": sub.reused, "preflight": sub.preflight})
 
 
 def validate_job(svc: Services, body: JobCreate) -> dict[str, Any]:
@@ -118,7 +85,7 @@ def list_jobs(svc: Services, status: str | None, study_id: str | None, limit: in
             "offset": offset}
 
 
-def cancel_job(svc: Services, job_id: str) -> dict[str, Any]:
+def cancel_job(svc: Services, job_id: str) -> JobOut:
     """Cancel a queued or running job (a finished one is left as it is)."""
     job = svc.store.request_cancel(job_id)
     if job is None:
