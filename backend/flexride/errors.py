@@ -65,7 +65,8 @@ class ScenarioError(FlexrideError, ValueError):
 
     def located(self, prefix: Loc, source: str = "scenario") -> ScenarioError:
         """The same problems located under ``prefix`` (a problem without items becomes one
-        item at ``prefix``)."""
+        item at ``prefix``).
+        """
         items = self.items or (ErrorItem((), str(self)),)
         moved = [ErrorItem(tuple(prefix) + it.loc, it.msg) for it in items]
         text = "; ".join(f"{source}: {it.path}: {it.msg}" for it in moved)
@@ -76,6 +77,7 @@ class UnknownPresetError(ScenarioError, KeyError):
     """A preset name that does not exist."""
 
     def __str__(self) -> str:  # KeyError would quote the message
+        """The message as given (KeyError would quote it)."""
         return str(self.args[0]) if self.args else ""
 
 
@@ -113,7 +115,8 @@ class AnalysisError(FlexrideError, ValueError):
 
 class StorageError(FlexrideError):
     """The job records or the result, upload or cache files cannot be read or written (a
-    read-only or full disk, a database that refuses writes): the service answers 503."""
+    read-only or full disk, a database that refuses writes): the service answers 503.
+    """
 
 
 class ResultsFileError(FlexrideError):
@@ -123,4 +126,5 @@ class ResultsFileError(FlexrideError):
 class FEModelError(FlexrideError, ValueError):
     """A finite-element model is unusable: an input file is unreadable or inconsistent
     (non-symmetric or wrongly sized matrices, missing nodes, negative mass) or the model has
-    mechanisms."""
+    mechanisms.
+    """

@@ -17,7 +17,8 @@ CACHE_ENV = "FLEXRIDE_CACHE_DIR"
 
 def cache_root() -> Path:
     """The cache directory: ``$FLEXRIDE_CACHE_DIR``, default ``~/.cache/flexride`` (numba
-    kernels, reduced FE bodies, their browser exports)."""
+    kernels, reduced FE bodies, their browser exports).
+    """
     return Path(os.environ.get(CACHE_ENV) or Path.home() / ".cache" / "flexride")
 
 

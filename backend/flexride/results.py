@@ -48,8 +48,9 @@ POINT_FRAME = ("nominal vehicle geometry: x from the car-body centre, forward po
 
 @dataclass(frozen=True)
 class Channel:
-    """The parts of a channel name ``<body>.<point>.<quantity>.<direction>`` (the one naming
-    rule of recorded channels):
+    """The parts of a channel name ``<body>.<point>.<quantity>.<direction>``.
+
+    This is the one naming rule of recorded channels:
 
     * ``carbody.PC.acc.z``: acceleration (m/s²) at a recorded point, direction ``y`` or ``z``;
     * ``wheelset1.left.force.z``: wheel–rail force (N) of a wheel, ``z`` vertical, ``y``
@@ -112,7 +113,8 @@ class Results:
     def recorded_points(self) -> list[dict[str, Any]]:
         """Recorded points (dicts of :class:`~flexride.vehicle.topology.RecordedPoint`):
         :attr:`points` when given, else derived from :attr:`scenario` (empty when the scenario
-        does not describe a vehicle)."""
+        does not describe a vehicle).
+        """
         if self.points is not None:
             return self.points
         return points_from_scenario(self.scenario)
@@ -147,7 +149,8 @@ class Results:
 
     def running_speed(self) -> float | None:
         """Running speed (m/s): from the run facts, else the scenario's ``speed_kmh``, else the
-        distance and time axes; None when none of them tells."""
+        distance and time axes; None when none of them tells.
+        """
         v = self.meta.get("speed_mps")
         if v is not None:
             return float(v)

@@ -44,7 +44,8 @@ _HOST_ENTRY = re.compile(r"(\*|(\*\.)?[a-z0-9_.-]+|\[[0-9a-f:.]+\]|[0-9a-f:.]+)(
 
 def _guessable(token: str) -> bool:
     """Whether ``token`` is made of well-known words, digits and punctuation only, of fewer
-    than six different characters, or is a run of the alphabet, the keyboard or the digits."""
+    than six different characters, or is a run of the alphabet, the keyboard or the digits.
+    """
     low = token.lower()
     if _WEAK_TOKEN.fullmatch(low) or len(set(low)) < 6:
         return True
@@ -288,7 +289,8 @@ class Settings(BaseSettings):
     @property
     def trusted_hosts(self) -> list[str]:
         """Host names the API answers: localhost, 127.0.0.1, ::1, the bind address (unless
-        it is a wildcard address) and ``allowed_hosts``."""
+        it is a wildcard address) and ``allowed_hosts``.
+        """
         names = [*LOOPBACK_HOSTS]
         if self.bind_host not in ("0.0.0.0", "::", ""):
             names.append(self.bind_host)

@@ -316,7 +316,8 @@ def _nmv_window(block_rms: dict[str, np.ndarray], b0: int, b1: int, nb: int,
                 fs: float) -> dict[str, Any]:
     """N_MV of one evaluation window, blocks ``b0`` to ``b1`` (exclusive) of ``nb`` samples:
     start and end (s), number of blocks, the 95th percentiles a_XP95, a_YP95, a_ZP95 of the
-    block rms values (m/s²; 0 for a missing direction) and ``n_mv``."""
+    block rms values (m/s²; 0 for a missing direction) and ``n_mv``.
+    """
     p = {d: float(_p95(block_rms[d][b0:b1])) if d in block_rms else 0.0 for d in "xyz"}
     nmv = 6.0 * math.sqrt(p["x"] ** 2 + p["y"] ** 2 + p["z"] ** 2)
     return {"start_s": b0 * nb / fs, "end_s": b1 * nb / fs, "n_blocks": b1 - b0,
@@ -326,7 +327,8 @@ def _nmv_window(block_rms: dict[str, np.ndarray], b0: int, b1: int, nb: int,
 def _nmv_description(given: dict[str, np.ndarray], method: WeightingMethod, block_s: float,
                      window_s: float, n_blocks: int, per_window: int, short: bool) -> str:
     """The ``method`` text of a mean comfort: formula, filter, block (s) and window (min)
-    lengths, and whether the run was short or directions were missing."""
+    lengths, and whether the run was short or directions were missing.
+    """
     missing = [d for d in "xyz" if d not in given]
     desc = (f"EN 12299:2009 mean comfort, standard method: N_MV = 6·√(a_XP95² + a_YP95² + "
             f"a_ZP95²) (Wd x/y, Wb z, {method} filter), {block_s:g} s blocks, "

@@ -81,6 +81,7 @@ class WeightedRms:
     method: str
 
     def __float__(self) -> float:
+        """The value (m/s²), so the result can be used as a number."""
         return float(self.value)
 
 
@@ -143,7 +144,7 @@ def running_rms(
 
 def _window_rms(x: np.ndarray, fs: float, n_win: int, step: int,
                 sq: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """rms over windows of ``n_win`` samples ending at samples n_win−1, n_win−1+step, ...
+    """Rms over windows of ``n_win`` samples ending at samples n_win−1, n_win−1+step, ...
 
     ``sq`` may pass x² when the caller has it already.
     """

@@ -74,7 +74,8 @@ _Channel = tuple[str, str, np.ndarray]
 @dataclass
 class _Signals:
     """Per-point records kept for the per-point and per-run measures, by direction and point
-    (m/s²): the raw record, its dynamic part and its weighted records by weighting name."""
+    (m/s²): the raw record, its dynamic part and its weighted records by weighting name.
+    """
 
     raw: dict[str, dict[str, np.ndarray]] = field(
         default_factory=lambda: {"x": {}, "y": {}, "z": {}})
@@ -281,7 +282,8 @@ def _usable_channels(results: Results, members: list[tuple[str, str]], point_nam
 def _add_mean_comfort(points: dict[str, PointSummary], signals: _Signals, fs: float,
                       filter_method: WeightingMethod) -> None:
     """EN 12299 mean comfort N_MV of each point from its raw records (m/s²) and the comfort
-    weighting already applied to them; a note on points off the floor."""
+    weighting already applied to them; a note on points off the floor.
+    """
     weighted = signals.weighted
     for p, ps in points.items():
         dirs = {d: signals.raw[d][p] for d in "xyz" if p in signals.raw[d]}
@@ -333,7 +335,8 @@ def _correlations(ref: str | None, names: list[str], dynamic: dict[str, dict[str
 
 def _running_safety(results: Results, arrays: bool, notes: list[str]) -> RunningSafety | None:
     """Running-safety indices of the run, or None (with a note) when they cannot be evaluated
-    (e.g. no wheel–rail forces)."""
+    (e.g. no wheel–rail forces).
+    """
     try:
         return running_safety(results, keep_series=arrays)
     except FlexrideError as exc:
@@ -344,7 +347,8 @@ def _running_safety(results: Results, arrays: bool, notes: list[str]) -> Running
 def _other_channel_peaks(results: Results, channels: list[str], fs: float, t0: float,
                          notes: list[str]) -> dict[str, PeakStats]:
     """Peak statistics of the acceleration channels off the car body (in their unit, times
-    from ``t0`` s), by name; a channel that fails is noted."""
+    from ``t0`` s), by name; a channel that fails is noted.
+    """
     other_channels: dict[str, PeakStats] = {}
     for ch in sorted(channels):
         try:
@@ -357,7 +361,8 @@ def _other_channel_peaks(results: Results, channels: list[str], fs: float, t0: f
 
 def _run_block(results: Results, time: np.ndarray, fs: float, t0: float) -> dict[str, Any]:
     """The ``run`` block of a summary: scenario name, duration (s), sample rate (Hz), number of
-    samples, start time (s) and running speed (m/s, km/h; None if unknown)."""
+    samples, start time (s) and running speed (m/s, km/h; None if unknown).
+    """
     speed = results.running_speed()
     scen_name = results.scenario.get("name") if isinstance(results.scenario, dict) else None
     return {"scenario": scen_name, "duration_s": time.size / fs, "sample_rate_hz": fs,
@@ -439,7 +444,8 @@ def _split_quasi_static(x: np.ndarray, fs: float, t0: float,
 def _add_sperling(dyn: np.ndarray, fs: float, d: str, sperling_form: SperlingForm,
                   summaries: list[DirectionSummary]) -> None:
     """Sperling index of the dynamic parts ``dyn`` (m/s²; direction ``d`` = y or z) in the
-    default form (``sperling``) and in the other form (``sperling_alternative``)."""
+    default form (``sperling``) and in the other form (``sperling_alternative``).
+    """
     direction = "vertical" if d == "z" else "lateral"
     alternative: SperlingForm = "filter" if sperling_form == "spectral" else "spectral"
     forms: tuple[tuple[str, SperlingForm], ...] = (("sperling", sperling_form),
@@ -505,7 +511,8 @@ def _add_continuous_comfort(x: np.ndarray, fs: float, t0: float, d: str,
                             weighted: dict[str, dict[str, np.ndarray]],
                             summaries: list[DirectionSummary]) -> None:
     """EN 12299 continuous comfort C_c(t) of each record (m/s², times from ``t0`` s), from its
-    comfort-weighted record; records without one are left out."""
+    comfort-weighted record; records without one are left out.
+    """
     cc_w = ISO_WEIGHTINGS[d][0]
     for i, (p, _, _) in enumerate(good):
         if cc_w not in weighted[p]:
@@ -522,7 +529,8 @@ def _add_continuous_comfort(x: np.ndarray, fs: float, t0: float, d: str,
 def _add_psd(dyn: np.ndarray, fs: float, arrays: bool,
              summaries: list[DirectionSummary]) -> None:
     """Welch PSD ((m/s²)²/Hz) of the dynamic parts and its dominant peaks between 0.3 Hz and
-    min(100 Hz, fs/2); with ``arrays`` the PSD up to that frequency too."""
+    min(100 Hz, fs/2); with ``arrays`` the PSD up to that frequency too.
+    """
     n = dyn.shape[1]
     seg = min(_PSD_SEGMENT_S, n / fs)
     hi = min(_PEAK_BAND[1], fs / 2.0)
@@ -546,7 +554,8 @@ def _add_psd(dyn: np.ndarray, fs: float, arrays: bool,
 def _add_spectrograms(dyn: np.ndarray, fs: float, t0: float,
                       summaries: list[DirectionSummary]) -> None:
     """Spectrogram of each dynamic part (2 s windows or the whole record, up to
-    min(50 Hz, fs/2); times from ``t0`` s)."""
+    min(50 Hz, fs/2); times from ``t0`` s).
+    """
     n = dyn.shape[1]
     try:
         sg = spectrogram(dyn, fs, window_s=min(2.0, n / fs), fmax=min(50.0, fs / 2.0))

@@ -21,7 +21,8 @@ __all__ = ["safety_table", "summary_table"]
 
 def _fmt(v: float | None, digits: int = 3) -> str:
     """``v`` with ``digits`` significant digits (whole numbers from 1000 on); a dash for None
-    and non-finite values."""
+    and non-finite values.
+    """
     if v is None or not math.isfinite(v):
         return "–"
     return f"{v:.{digits}g}" if abs(v) < 1000 else f"{v:.0f}"

@@ -63,14 +63,16 @@ class Spectrogram:
 
 def window_and_hop(fs: float, window_s: float, overlap: float) -> tuple[int, int]:
     """Samples per window and between windows of :func:`spectrogram` (fs in Hz, window in s,
-    overlap as a fraction)."""
+    overlap as a fraction).
+    """
     nwin = max(4, round(window_s * fs))
     return nwin, max(1, round(nwin * (1.0 - overlap)))
 
 
 def spectrogram_cells(n: int, fs: float, window_s: float, overlap: float) -> int:
     """Values :func:`spectrogram` computes for ``n`` samples before it keeps the band up to
-    ``fmax``: time slices × one-sided frequency bins (its cost and memory are of this order)."""
+    ``fmax``: time slices × one-sided frequency bins (its cost and memory are of this order).
+    """
     nwin, hop = window_and_hop(fs, window_s, overlap)
     sft = signal.ShortTimeFFT(np.ones(nwin), hop, fs)  # only its slice count is used
     return int(sft.p_max(n) - sft.p_min) * (nwin // 2 + 1)

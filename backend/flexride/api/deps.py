@@ -50,7 +50,8 @@ def token_ok(
     credentials: Annotated[HTTPAuthorizationCredentials | None, Security(_bearer)] = None,
 ) -> bool:
     """Whether the request may change things: the service has no token, or the request carries
-    it as ``Authorization: Bearer <token>``."""
+    it as ``Authorization: Bearer <token>``.
+    """
     token = get_services(request).settings.api_token
     if not token:
         return True

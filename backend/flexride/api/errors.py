@@ -64,6 +64,7 @@ class SafeJSONResponse(JSONResponse):
     """JSON response that writes non-finite floats as null instead of failing."""
 
     def render(self, content: Any) -> bytes:
+        """JSON of ``content`` with non-finite floats written as null."""
         try:
             text = json.dumps(content, ensure_ascii=False, allow_nan=False,
                               separators=(",", ":"))

@@ -60,7 +60,8 @@ TAGS = [
 
 def build_services(settings: Settings) -> Services:
     """Create the store (schema created or migrated), files, runner, submitter, reaper and the
-    FE exports (served from files, built by ``fe_export`` jobs of the runner)."""
+    FE exports (served from files, built by ``fe_export`` jobs of the runner).
+    """
     store = JobStore.from_url(settings.effective_database_url, create=True)
     files = ResultFiles(settings.results_dir,
                         cache_bytes=int(settings.result_cache_mb * 1024 * 1024))
@@ -85,7 +86,8 @@ def plotly_js_path() -> Path | None:
 
 def docs_assets_dir() -> Path | None:
     """The Swagger UI and ReDoc files (``swagger-ui-bundle.js``, ``swagger-ui.css``,
-    ``redoc.standalone.js``, ``favicon.png``) of the installed ``fastapi-offline`` package."""
+    ``redoc.standalone.js``, ``favicon.png``) of the installed ``fastapi-offline`` package.
+    """
     try:
         import fastapi_offline
     except ImportError:  # pragma: no cover - fastapi-offline is a dependency
@@ -97,7 +99,8 @@ def docs_assets_dir() -> Path | None:
 def _same_origin_only(page: HTMLResponse) -> HTMLResponse:
     """``page`` with a Content-Security-Policy that lets it load nothing from elsewhere (ReDoc
     would fetch its logo from cdn.redoc.ly) and run only its own scripts (inline ones by
-    hash)."""
+    hash).
+    """
     html = page.body.decode() if isinstance(page.body, bytes) else str(page.body)
     scripts = " ".join(["'self'", *(
         "'sha256-" + base64.b64encode(hashlib.sha256(s.encode()).digest()).decode() + "'"
@@ -111,7 +114,8 @@ def _same_origin_only(page: HTMLResponse) -> HTMLResponse:
 
 def _docs(app: FastAPI) -> None:
     """``/docs`` (Swagger UI) and ``/redoc`` (ReDoc) loading their scripts, styles and icon
-    from this service (``DOCS_ASSETS_URL``) instead of a CDN, so they work offline."""
+    from this service (``DOCS_ASSETS_URL``) instead of a CDN, so they work offline.
+    """
     assets = docs_assets_dir()
     if assets is None:  # pragma: no cover
         log.warning("fastapi-offline is not installed: /docs and /redoc have no scripts")

@@ -31,7 +31,8 @@ else:
 
 class _TooLarge(HTTPException):
     """Raised while reading an oversized body; FastAPI passes HTTP errors through, so the
-    client gets 413 (not 400) however the body is read."""
+    client gets 413 (not 400) however the body is read.
+    """
 
     def __init__(self, limit: int):
         super().__init__(413, f"request body exceeds the limit of {limit} bytes")
@@ -56,6 +57,7 @@ class BodySizeLimit:
         await reply_json(send, status, message)
 
     async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        """Pass the request on with its body counted; 413 beyond the limit."""
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
@@ -165,6 +167,7 @@ class TrustedHosts:
         return bool(name) and (name in self.names or name.endswith(self.suffixes))
 
     async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        """Refuse a request whose Host header is not allowed, else pass on."""
         if scope["type"] == "http" and not self.any:
             header = next((v.decode("latin-1") for k, v in scope.get("headers", ())
                            if k == b"host"), "")
@@ -200,7 +203,8 @@ class MethodNotAllowed:
 
     def allowed_methods(self, scope: dict) -> set[str] | None:
         """The methods of the first route template that matches the path, or None when a
-        route takes the request as it is (or no route has the path)."""
+        route takes the request as it is (or no route has the path).
+        """
         allowed: set[str] = set()
         template = None
         for route in _route_contexts(self.router.routes):
@@ -216,6 +220,7 @@ class MethodNotAllowed:
         return allowed or None
 
     async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        """Answer 405 with ``Allow`` where the routes say so, else pass on."""
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return

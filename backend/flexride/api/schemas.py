@@ -142,6 +142,7 @@ class JobOut(BaseModel):
     @computed_field(description="Time waiting for a worker (s)")  # type: ignore[prop-decorator]
     @property
     def queue_time_s(self) -> float | None:
+        """Seconds from creation to start (or to now while queued)."""
         if self.started_at is not None:
             return max(0.0, (self.started_at - self.created_at).total_seconds())
         if self.status == "queued":
@@ -151,6 +152,7 @@ class JobOut(BaseModel):
     @computed_field(description="Time running so far or in all (s)")  # type: ignore[prop-decorator]
     @property
     def run_time_s(self) -> float | None:
+        """Seconds from start to finish (or to now while running)."""
         if self.started_at is None:
             return None
         end = self.finished_at or datetime.now(UTC)
@@ -159,17 +161,20 @@ class JobOut(BaseModel):
     @computed_field(description="Solver loop wall time (s)")  # type: ignore[prop-decorator]
     @property
     def solver_wall_time_s(self) -> float | None:
+        """Wall time of the solver loop from the run facts (s)."""
         value = (self.run_meta or {}).get("wall_time_solve_s")
         return None if value is None else float(value)
 
     @computed_field(description="The job has results to read")  # type: ignore[prop-decorator]
     @property
     def has_results(self) -> bool:
+        """Whether the job succeeded with a result file."""
         return self.status == "succeeded" and self.result_file is not None
 
     @computed_field(description="URLs of the job's resources")  # type: ignore[prop-decorator]
     @property
     def links(self) -> dict[str, str]:
+        """URLs of the job's resources."""
         base = f"{API_PREFIX}/jobs/{self.id}"
         return {"self": base, "summary": f"{base}/summary", "channels": f"{base}/channels",
                 "series": f"{base}/series", "spectrum": f"{base}/spectrum",
@@ -213,7 +218,8 @@ class ChannelInfo(BaseModel):
 
 class PointInfo(BaseModel):
     """A recorded point: its body, name, description, position (m, see ``point_frame``) and
-    whether it is on the car-body floor."""
+    whether it is on the car-body floor.
+    """
 
     body: str = Field(description="Body the point is on: carbody, frame1, wheelset3...")
     name: str = Field(description="Point name: PR, PC, F3_2 (floor grid), centre...")
@@ -684,7 +690,8 @@ class FEBuildStatus(BaseModel):
 
 class UploadOut(BaseModel):
     """A stored upload of measured irregularities (refer to it as
-    ``{"kind": "measured", "upload": id}`` in a scenario)."""
+    ``{"kind": "measured", "upload": id}`` in a scenario).
+    """
 
     id: str = Field(description="SHA-256 of the content (64 hexadecimal digits)")
     bytes: int = Field(description="Size of the content (bytes)")

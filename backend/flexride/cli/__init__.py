@@ -234,7 +234,8 @@ def analyze(
 
 def _register_subcommands() -> None:
     """Service commands (``serve``, ``worker``), the finite-element tools (``fe``) and the
-    contact-geometry tools (``contact``)."""
+    contact-geometry tools (``contact``).
+    """
     from flexride.cli.contact import contact_app
     from flexride.cli.fe import fe_app
     from flexride.cli.service import register

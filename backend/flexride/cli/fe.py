@@ -54,7 +54,8 @@ def _vehicle(preset: str):
 def _build_body(kind: str, preset: str, method: str, cutoff: float, element_size: float,
                 use_cache: bool = True):
     """The reduced default body for the ``reduce`` and ``export`` commands: options checked
-    first, any flexride error as one line and a non-zero exit."""
+    first, any flexride error as one line and a non-zero exit.
+    """
     try:
         from flexride.fem.flexible import build_flexible_body
 

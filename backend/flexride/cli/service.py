@@ -37,7 +37,8 @@ def _is_loopback(host: str) -> bool:
 
 def _apply_env(**values: object) -> Settings:
     """Put command-line options into the environment (so spawned workers see them too) and
-    return the settings; invalid settings end the command with one line per problem."""
+    return the settings; invalid settings end the command with one line per problem.
+    """
     for key, value in values.items():
         if value is not None:
             os.environ[f"FLEXRIDE_{key.upper()}"] = str(value)

@@ -75,7 +75,8 @@ def vehicle_body_inputs(kind, vehicle, method, cutoff_hz, element_size, extra_po
 
 def _model_hash(model: FEModel) -> dict:
     """SHA-256 of a model's matrices (sorted CSC arrays), nodes and DOF map, and its named
-    nodes."""
+    nodes.
+    """
     h = hashlib.sha256()
     K, M = model.assemble()
     for A in (K, M):
@@ -93,7 +94,8 @@ def _model_hash(model: FEModel) -> dict:
 def model_inputs(model: FEModel, method: str, cutoff_hz: float, attachments: list[str],
                  outputs: list[str]) -> dict:
     """What determines a reduced body of any FE model: its content hash, the reduction method,
-    the cut-off (Hz) and the attachment and output nodes."""
+    the cut-off (Hz) and the attachment and output nodes.
+    """
     return {
         "kind": "model",
         "model": _model_hash(model),

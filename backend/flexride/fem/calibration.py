@@ -233,7 +233,8 @@ def calibrate_carbody(
 def _start_values(base: CarBodyParams, names: list[str]) -> tuple[np.ndarray, np.ndarray,
                                                                   np.ndarray]:
     """Starting values of the variables ``names`` (from ``base``, moved just inside their
-    bounds) and their lower and upper bounds (SI units)."""
+    bounds) and their lower and upper bounds (SI units).
+    """
     x0 = np.array([getattr(base, v) for v in names], dtype=float)
     lo = np.array([BOUNDS[v][0] for v in names])
     hi = np.array([BOUNDS[v][1] for v in names])
@@ -306,7 +307,8 @@ class _Evaluations:
 def _mode_names(params: CarBodyParams, target: InertiaTarget, element_size: float,
                 n: int) -> list[str]:
     """Names of the first ``n`` elastic modes of the car body with ``params`` (element size
-    in m)."""
+    in m).
+    """
     _, model, modes = carbody_frequencies(params, target, element_size, n)
     _, M = model.assemble()
     return [

@@ -147,7 +147,8 @@ class _Grid:
 @dataclass(frozen=True)
 class _Panels:
     """Node indices of the panel grids: ``floor`` and ``roof`` (x, y), ``wall_left`` and
-    ``wall_right`` (x, z), ``end_front`` and ``end_rear`` (y, z)."""
+    ``wall_right`` (x, z), ``end_front`` and ``end_rear`` (y, z).
+    """
 
     floor: np.ndarray
     wall_left: np.ndarray
@@ -218,7 +219,8 @@ def build_carbody(
 
 def _grid(p: CarBodyParams, h: float) -> _Grid:
     """Mesh lines at most ``h`` m apart: x through the centre and the bogie centres, y through
-    the centre line and the air springs, z from the floor to the eaves; the roof arc over y."""
+    the centre line and the air springs, z from the floor to the eaves; the roof arc over y.
+    """
     L2, W2 = p.length / 2.0, p.width / 2.0
     lc, ys = p.bogie_spacing / 2.0, p.air_spring_y
     xs = mesh_lines(-L2, L2, h, (0.0, lc, -lc))
@@ -232,7 +234,8 @@ def _grid(p: CarBodyParams, h: float) -> _Grid:
 
 def _panel_nodes(reg: NodeRegistry, p: CarBodyParams, g: _Grid) -> _Panels:
     """Nodes of the floor, the side walls, the roof and the end walls (in that order), each
-    tagged with its region; edges shared by two panels get one node."""
+    tagged with its region; edges shared by two panels get one node.
+    """
     L2, W2 = p.length / 2.0, p.width / 2.0
     zf, ze = p.floor_height, p.eave_height
     floor = np.array([[reg.node(x, y, zf, _FLOOR) for y in g.yl] for x in g.xs])
@@ -256,7 +259,8 @@ def _panel_nodes(reg: NodeRegistry, p: CarBodyParams, g: _Grid) -> _Panels:
 
 def _openings(p: CarBodyParams, g: _Grid) -> np.ndarray:
     """(nx − 1, nz − 1) mask of the side-wall cells (x, z) that are door or window openings
-    (both walls alike): doors from the floor up, windows between sill and top."""
+    (both walls alike): doors from the floor up, windows between sill and top.
+    """
     xc = 0.5 * (g.xs[:-1] + g.xs[1:])
     zc = 0.5 * (g.zl[:-1] + g.zl[1:])
     zf = p.floor_height
@@ -286,7 +290,8 @@ def _openings(p: CarBodyParams, g: _Grid) -> np.ndarray:
 def _add_shells(el: ElementLists, reg: NodeRegistry, p: CarBodyParams, g: _Grid,
                 panels: _Panels, openings: np.ndarray) -> None:
     """Shells of the floor, the roof, the side walls (without the openings) and the end walls
-    (without the gangway opening), in that order."""
+    (without the gangway opening), in that order.
+    """
     el.add_grid(panels.floor, _G_FLOOR)
     el.add_grid(panels.roof, _G_ROOF)
     el.add_grid(panels.wall_left, _G_WALL, lambda i, k: bool(openings[i, k]))
@@ -312,7 +317,8 @@ def _add_shells(el: ElementLists, reg: NodeRegistry, p: CarBodyParams, g: _Grid,
 
 def _add_frame_beams(el: ElementLists, g: _Grid, panels: _Panels, openings: np.ndarray) -> None:
     """Beams along the panel edges: side sills, cant rails, the underframe longitudinal members
-    under the air springs, end sills, then frames around the openings of both walls."""
+    under the air springs, end sills, then frames around the openings of both walls.
+    """
     floor, wall_l, wall_r = panels.floor, panels.wall_left, panels.wall_right
     jl, jr = g.yl.size - 1, 0
     el.add_line(floor[:, jl], _B_SILL, (0.0, 1.0, 0.0))
@@ -329,7 +335,8 @@ def _add_frame_beams(el: ElementLists, g: _Grid, panels: _Panels, openings: np.n
 
 def _add_opening_frames(el: ElementLists, wall: np.ndarray, mask: np.ndarray) -> None:
     """Posts and headers / sills around the openings of one wall: each edge of an opening cell
-    that borders a solid cell (or the floor) gets a beam."""
+    that borders a solid cell (or the floor) gets a beam.
+    """
     nx1, nz1 = mask.shape
     for i in range(nx1):
         for k in range(nz1):
@@ -374,7 +381,8 @@ def _add_output_nodes(named: dict[str, int], p: CarBodyParams, g: _Grid,
                       panels: _Panels) -> list[str]:
     """Name the paper's points (roof and floor nodes above the bogie centres, the floor at the
     centre, above the rear air springs) and a floor grid (x every 1 m from −9 to +9 m, y at
-    −1.0, −0.5, 0, 0.5, 1.0 m: ``F<ix>_<iy>``) in ``named``; returns the grid's names."""
+    −1.0, −0.5, 0, 0.5, 1.0 m: ``F<ix>_<iy>``) in ``named``; returns the grid's names.
+    """
     L2, lc = p.length / 2.0, p.bogie_spacing / 2.0
     floor, roof, xs, yl = panels.floor, panels.roof, g.xs, g.yl
     j0 = int(np.argmin(np.abs(yl)))
@@ -410,7 +418,8 @@ def _shell_sections(p: CarBodyParams) -> list[ShellSection]:
 
 def _beam_sections(bs: float) -> list[BeamSection]:
     """Box sections of the :data:`BEAM_GROUPS` (m), stiffness scaled by ``bs``; the bolster
-    webs at least four times the bolster."""
+    webs at least four times the bolster.
+    """
     return [
         _box(0.15, 0.25, 6e-3, bs),  # side sill
         _box(0.12, 0.12, 4e-3, bs),  # cant rail
@@ -423,7 +432,7 @@ def _beam_sections(bs: float) -> list[BeamSection]:
 
 
 def grid_z(reg: NodeRegistry, i: int) -> float:
-    """z coordinate of node ``i`` of a registry."""
+    """Z coordinate of node ``i`` of a registry."""
     return reg.coords[i][2]
 
 

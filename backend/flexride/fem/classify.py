@@ -116,7 +116,8 @@ def _section_motions(u: np.ndarray, nodes: np.ndarray) -> tuple[
 def _beam_name(energies: tuple[float, float, float],
                sections: tuple[np.ndarray, np.ndarray, np.ndarray]) -> str:
     """Name of the dominant beam-like motion (vertical or lateral bending, torsion) with its
-    order from the sign changes of the section motion along x."""
+    order from the sign changes of the section motion along x.
+    """
     e_v, e_w, e_t = energies
     v_sec, w_sec, t_sec = sections
     kind = int(np.argmax([e_w, e_v, e_t]))
@@ -132,7 +133,8 @@ def _local_name(u: np.ndarray, nodes: np.ndarray, node_region: np.ndarray,
                 region_names: list[str]) -> str:
     """Name of a cross-section deformation after the region with the largest rms translation:
     side walls (breathing when they move against each other), floor or roof (roof–floor
-    breathing, rhombic deformation when the roof moves mostly laterally)."""
+    breathing, rhombic deformation when the roof moves mostly laterally).
+    """
     rms = {}
     for r, name in enumerate(region_names):
         sel = node_region == r
@@ -159,7 +161,8 @@ def _local_name(u: np.ndarray, nodes: np.ndarray, node_region: np.ndarray,
 def _walls(u: np.ndarray, nodes: np.ndarray, node_region: np.ndarray,
            region_names: list[str]) -> str:
     """``breathing (side walls)`` when the walls move laterally against each other (matching
-    nodes by x and z), else ``side walls lateral``."""
+    nodes by x and z), else ``side walls lateral``.
+    """
     il, ir = region_names.index("wall_left"), region_names.index("wall_right")
     left, right = nodes[node_region == il], nodes[node_region == ir]
     key_r = {(round(a, 3), round(c, 3)): k for k, (a, _, c) in enumerate(right)}

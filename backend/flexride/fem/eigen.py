@@ -240,7 +240,8 @@ BORDER_MARGIN = 1e-8
 def _drop_repeats(w2: np.ndarray, phi: np.ndarray, M) -> tuple[np.ndarray, np.ndarray]:
     """Sorted eigenpairs without the ones found twice: a pair whose value is within
     ``1e-6`` (relative) of an earlier one and whose mass-normalised shape is parallel to it
-    (|φᵢᵀMφⱼ| > 0.5) is the same mode; close values with orthogonal shapes are kept."""
+    (|φᵢᵀMφⱼ| > 0.5) is the same mode; close values with orthogonal shapes are kept.
+    """
     order = np.argsort(w2)
     w2, phi = w2[order], phi[:, order]
     keep: list[int] = []

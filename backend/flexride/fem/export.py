@@ -168,7 +168,8 @@ class ExportSpec:
     @property
     def key(self) -> str:
         """Content key: SHA-256 (32 hex digits) of the spec, the flexride version and the
-        export format."""
+        export format.
+        """
         from flexride import __version__
 
         payload = {"spec": asdict(self), "flexride": __version__, "format": EXPORT_FORMAT}
@@ -203,7 +204,8 @@ class ExportSpec:
 
 def export_path(cache_dir: str | os.PathLike[str], key: str) -> Path:
     """Where the service keeps the export of content key ``key``:
-    ``<cache_dir>/fe-export-<version>/<key>.json``."""
+    ``<cache_dir>/fe-export-<version>/<key>.json``.
+    """
     from flexride import __version__
 
     return Path(cache_dir) / f"fe-export-{__version__}" / f"{key}.json"

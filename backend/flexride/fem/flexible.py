@@ -109,7 +109,8 @@ def _reduce_vehicle_model(inputs: dict, kind: Kind, vehicle, method: Method, cut
     """Build the FE model of ``kind`` for ``vehicle`` (element size in m), name the node
     nearest to each extra point (m, model coordinates), reduce it with the attachment, output
     and extra nodes as Guyan masters (attachments as Craig–Bampton interface) up to
-    ``cutoff_hz`` (Hz), and return its cache entry."""
+    ``cutoff_hz`` (Hz), and return its cache entry.
+    """
     model, target = build_fe_model(kind, vehicle, element_size, params)
     for pname, xyz in (extra_points or {}).items():
         model.named_nodes[pname] = model.nearest_node(np.asarray(xyz, dtype=float))

@@ -56,7 +56,8 @@ class FlexibleBody:
     def shape_at(self, position_xyz: tuple[float, float, float] | np.ndarray) -> np.ndarray:
         """(6, n_elastic) elastic shapes at the node nearest to ``position_xyz`` (m, relative
         to the body's CG, body axes): translations (m) and rotations (rad) per unit
-        mass-normalised modal coordinate."""
+        mass-normalised modal coordinate.
+        """
         return self.modes.shape_at(position_xyz)
 
     def node_position(self, name: str) -> np.ndarray:
@@ -65,7 +66,8 @@ class FlexibleBody:
 
     def floor_grid_nodes(self) -> tuple[list[str], np.ndarray]:
         """Names and positions (relative to the CG, m) of the regular floor grid (car body):
-        x every 1 m from −9 to +9 m, y at −1.0, −0.5, 0, 0.5, 1.0 m."""
+        x every 1 m from −9 to +9 m, y at −1.0, −0.5, 0, 0.5, 1.0 m.
+        """
         names = list(self.floor_grid)
         pos = np.array([self.node_position(n) for n in names]).reshape(-1, 3)
         return names, pos

@@ -147,7 +147,8 @@ def _add_side_beams(el: ElementLists, reg: NodeRegistry, p: FrameParams,
 
 def _add_cross_beams(el: ElementLists, reg: NodeRegistry, p: FrameParams, h: float) -> None:
     """The two cross beams between the side beams and the centre bracket between the cross
-    beams (elements at most ``h`` m long)."""
+    beams (elements at most ``h`` m long).
+    """
     zb = p.beam_height
     ys = mesh_lines(-p.primary_y, p.primary_y, h, (0.0,))
     for xc in (p.cross_beam_x, -p.cross_beam_x):
@@ -159,7 +160,8 @@ def _add_cross_beams(el: ElementLists, reg: NodeRegistry, p: FrameParams, h: flo
 
 def _sections(p: FrameParams) -> list[BeamSection]:
     """Sections of the side beams (steel box), cross beams (steel tube), centre bracket and
-    seat links (stiff, practically massless), stiffness scaled by ``stiffness_scale``."""
+    seat links (stiff, practically massless), stiffness scaled by ``stiffness_scale``.
+    """
     s = p.stiffness_scale
     return [
         BeamSection.box(p.side_beam_width, p.side_beam_depth, p.side_beam_wall, STEEL).scaled(s),

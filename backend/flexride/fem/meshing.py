@@ -1,5 +1,6 @@
 """Small structured-meshing helpers: mesh lines through key points, a node registry, the
-lists of elements being generated."""
+lists of elements being generated.
+"""
 
 from __future__ import annotations
 
@@ -76,7 +77,8 @@ class ElementLists:
     def add_grid(self, grid: np.ndarray, group: int,
                  skip: Callable[[int, int], bool] | None = None) -> None:
         """A quad on every cell of a (rows, columns) grid of node indices, row by row, except
-        the cells ``(i, j)`` for which ``skip(i, j)`` is true."""
+        the cells ``(i, j)`` for which ``skip(i, j)`` is true.
+        """
         for i in range(grid.shape[0] - 1):
             for j in range(grid.shape[1] - 1):
                 if skip is not None and skip(i, j):

@@ -56,6 +56,7 @@ class BodyModes:
     node_names: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        """Check the shapes of the inertia and elastic data."""
         # markers added later (suspension points, user and floor-grid points) take their
         # elastic shapes from the nearest node
         if self.body.shape_at is None:
@@ -73,7 +74,8 @@ class BodyModes:
 
     def shape_at(self, position: np.ndarray | tuple[float, float, float]) -> np.ndarray:
         """(6, n_elastic) elastic shapes at the node nearest to ``position`` (relative to CG,
-        body axes, m): translations (m) and rotations (rad) per unit modal coordinate."""
+        body axes, m): translations (m) and rotations (rad) per unit modal coordinate.
+        """
         return np.array(self.shapes[self.nearest_node(position)])
 
     def node_position(self, node: int) -> np.ndarray:
@@ -212,7 +214,8 @@ def _elastic_modes(K, M, R: np.ndarray, Mrr: np.ndarray, f_max: float | None,
                    n_modes: int | None) -> tuple[np.ndarray, np.ndarray]:
     """The elastic modes kept (up to ``f_max`` Hz and at most ``n_modes``): frequencies (Hz)
     and shapes in the model's coordinates, made exactly M-orthogonal to the rigid-body vectors
-    ``R`` (rigid mass matrix ``Mrr``) and mass-normalised."""
+    ``R`` (rigid mass matrix ``Mrr``) and mass-normalised.
+    """
     modes = free_free_modes(K, M, R, n_elastic=n_modes if n_modes is not None else 6, f_max=f_max)
     f_el = modes.frequencies[6:]
     q = modes.shapes[:, 6:]

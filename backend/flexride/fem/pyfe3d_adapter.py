@@ -146,7 +146,8 @@ class BeamSection:
         cls, width: float, height: float, wall: float, material: Material = ALUMINIUM
     ) -> BeamSection:
         """Thin-walled rectangular tube ``width`` (element y) × ``height`` (element z) with
-        wall thickness ``wall`` (all m); Bredt's formula for the torsion constant."""
+        wall thickness ``wall`` (all m); Bredt's formula for the torsion constant.
+        """
         b, h, t = width, height, wall
         bi, hi = b - 2 * t, h - 2 * t
         area = b * h - bi * hi
@@ -320,7 +321,8 @@ def _matrix(parts: list[_Triplets], n: int) -> sp.csc_matrix:
 def _quad_triplets(mesh: Mesh, x: np.ndarray, shell_sections: list[ShellSection],
                    lumped: bool) -> tuple[_Triplets, _Triplets]:
     """Stiffness and mass triplets of the shells (pyfe3d ``Quad4``); ``x`` are the node
-    coordinates (m), flattened. Lumped masses keep the 120 entries pyfe3d writes per element."""
+    coordinates (m), flattened. Lumped masses keep the 120 entries pyfe3d writes per element.
+    """
     nq = len(mesh.quads)
     data = Quad4Data()
     probe = Quad4Probe()
@@ -353,7 +355,8 @@ def _beam_triplets(mesh: Mesh, x: np.ndarray, beam_sections: list[BeamSection],
                    lumped: bool) -> tuple[_Triplets, _Triplets]:
     """Stiffness and mass triplets of the beams (pyfe3d ``BeamC``, oriented by
     ``mesh.beam_vxy``); ``x`` are the node coordinates (m), flattened. Lumped masses keep 36
-    entries per element."""
+    entries per element.
+    """
     nb = len(mesh.beams)
     data = BeamCData()
     probe = BeamCProbe()
@@ -385,7 +388,8 @@ def _beam_triplets(mesh: Mesh, x: np.ndarray, beam_sections: list[BeamSection],
 
 def _spring_triplets(mesh: Mesh) -> _Triplets:
     """Stiffness triplets of the springs (pyfe3d ``Spring``, global axes; ``mesh.spring_k`` in
-    N/m and N·m/rad)."""
+    N/m and N·m/rad).
+    """
     ns = len(mesh.springs)
     data = SpringData()
     probe = SpringProbe()

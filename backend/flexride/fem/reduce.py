@@ -42,7 +42,8 @@ N_CLASSIFIED = 30
 
 def _classify(model: FEModel, shapes: np.ndarray, M, kind: str) -> list[str]:
     """Names of the first :data:`N_CLASSIFIED` modes of ``shapes`` ((n, 6, n_modes) nodal
-    shapes) by the frame or car-body classifier; the others are left unnamed (``""``)."""
+    shapes) by the frame or car-body classifier; the others are left unnamed (``""``).
+    """
     out = []
     for k in range(min(shapes.shape[2], N_CLASSIFIED)):
         phi = shapes[:, :, k].ravel()
@@ -65,7 +66,8 @@ def _reduced_modes(modes: BodyModes) -> np.ndarray:
 def dof_layout(model: FEModel):
     """(P, R, dof_nodes) of a model: the map from its matrix DOFs to six DOFs per node (None
     when the matrices are already nodal), its rigid-body vectors in matrix DOFs, and the node
-    of each matrix DOF (None for nodal models)."""
+    of each matrix DOF (None for nodal models).
+    """
     nodes = model.nodes
     Rn = rigid_body_vectors(nodes)
     if "dof_nodes" not in model.info:
@@ -154,7 +156,8 @@ class _Reduced:
 
 def _modal_truncation(model: FEModel, full_modes: BodyModes) -> _Reduced:
     """Modal truncation: the full model's modes up to the cut-off, with the model's named nodes
-    (six rigid plus the elastic coordinates)."""
+    (six rigid plus the elastic coordinates).
+    """
     modes = full_modes
     modes.node_names = dict(model.named_nodes)
     return _Reduced(modes, 6 + modes.body.n_elastic, {}, _reduced_modes(modes), {})
@@ -211,7 +214,8 @@ def _report(model: FEModel, method: Method, cutoff_hz: float, reduced: _Reduced,
             kind: str) -> ReductionReport:
     """The report of a reduction: sizes, reduced against full frequencies (Hz), MAC and its
     mode matching, mode names (nodal models only), mass properties against ``target`` and the
-    reduction's details."""
+    reduction's details.
+    """
     modes = reduced.modes
     ne = modes.body.n_elastic
     B = _reduced_modes(full_modes)

@@ -33,7 +33,8 @@ OUTPUTS = {
 
 def _inertia_target(body) -> InertiaTarget:
     """Mass, CG (on the centre line, at the body's CG height) and Ixx/Iyy/Izz of a body's
-    parameters (kg, m, kg·m²)."""
+    parameters (kg, m, kg·m²).
+    """
     return InertiaTarget(body.mass, np.array([0.0, 0.0, body.cg_height]),
                          np.array([body.ixx, body.iyy, body.izz]))
 

@@ -31,7 +31,8 @@ class JobRunner(ABC):
     @abstractmethod
     def submit(self, job_ids: Sequence[str]) -> None:
         """Make sure workers will run these queued jobs (never raises for a broker outage:
-        the jobs stay queued and are dispatched again later)."""
+        the jobs stay queued and are dispatched again later).
+        """
 
     def cancel(self, job_id: str) -> None:  # noqa: B027 - optional hook
         """Help stopping a job beyond the store's cancel flag (e.g. revoke its message)."""
@@ -47,7 +48,8 @@ class JobRunner(ABC):
 
 class NullRunner(JobRunner):
     """Records jobs and runs none of them (``FLEXRIDE_RUNNER=none``: another process, e.g. a
-    separately started worker, takes them, or tests that only exercise the API)."""
+    separately started worker, takes them, or tests that only exercise the API).
+    """
 
     kind = "none"
 

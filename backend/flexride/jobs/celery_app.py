@@ -59,7 +59,7 @@ def _child_stopping(**_kwargs) -> None:
 
 
 def job_context() -> JobContext:
-    """This child's :class:`~flexride.study.run_job.JobContext` (created on first use)."""
+    """The :class:`~flexride.study.run_job.JobContext` of this child (made on first use)."""
     ctx = _state.get("ctx")
     if ctx is None:  # e.g. the solo pool, where worker_process_init is not sent
         _child_started()

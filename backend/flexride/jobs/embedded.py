@@ -166,7 +166,8 @@ class EmbeddedRunner(JobRunner):
 
     def _handle_death(self, i: int, p) -> None:
         """Recover the dead process's job and schedule its restart (backing off when a
-        process keeps dying right after it starts)."""
+        process keeps dying right after it starts).
+        """
         name = worker_name(KIND, p.pid)
         reason = f"worker process {p.pid} died (exit code {p.exitcode})"
         log.error("embedded runner: %s", reason)

@@ -1,5 +1,6 @@
 """Worker identity and liveness: names ``<kind>-<pid>@<host>``, a check whether a named worker
-on this host is dead, and a background thread that reports a worker as seen."""
+on this host is dead, and a background thread that reports a worker as seen.
+"""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ log = logging.getLogger(__name__)
 
 
 def hostname() -> str:
-    """This machine's host name."""
+    """The host name of this machine."""
     return socket.gethostname()
 
 

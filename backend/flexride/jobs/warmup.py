@@ -1,5 +1,6 @@
 """Compile (or load from the on-disk cache) the solver's numba kernels before a worker takes
-jobs, so the first job does not pay for it and forked children inherit compiled code."""
+jobs, so the first job does not pay for it and forked children inherit compiled code.
+"""
 
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
 def single_threaded_env() -> None:
     """Ask BLAS and numba for one thread per process (worker processes run one job each, so
     threads would only oversubscribe the cores); variables already set are kept. Takes effect
-    in processes that import NumPy afterwards."""
+    in processes that import NumPy afterwards.
+    """
     for var in _THREAD_VARS:
         os.environ.setdefault(var, "1")
 

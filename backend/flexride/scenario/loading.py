@@ -37,7 +37,8 @@ Loc = tuple[str | int, ...]
 
 def check_shape(data: Any, source: str) -> None:
     """Refuse data nested deeper than :data:`MAX_NESTING` or with more than :data:`MAX_NODES`
-    values."""
+    values.
+    """
     stack, nodes = [(data, 1)], 0
     while stack:
         node, depth = stack.pop()
@@ -54,7 +55,8 @@ def check_shape(data: Any, source: str) -> None:
 
 def parse_text(text: str, as_json: bool, source: str) -> Any:
     """Parse YAML (or JSON) text into plain data, with one-line errors for syntax errors and
-    for data nested too deeply or too large."""
+    for data nested too deeply or too large.
+    """
     try:
         data = json.loads(text) if as_json else yaml.safe_load(text)
     except (json.JSONDecodeError, yaml.YAMLError) as exc:

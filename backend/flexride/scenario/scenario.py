@@ -76,7 +76,8 @@ def allowed_range(ctx: dict[str, Any] | None) -> str:
 
 def _data_loc(loc: tuple[Any, ...], data: Any) -> tuple[str | int, ...]:
     """``loc`` without the tags pydantic inserts for discriminated unions (``measured`` in
-    ``excitation.0.measured.rows``): the path of the field in the input data."""
+    ``excitation.0.measured.rows``): the path of the field in the input data.
+    """
     out: list[str | int] = []
     node = data
     for part in loc:
@@ -92,7 +93,8 @@ def _data_loc(loc: tuple[Any, ...], data: Any) -> tuple[str | int, ...]:
 
 def validation_items(exc: ValidationError, data: Any = None) -> list[ErrorItem]:
     """One located problem per validation error: what is wrong, the allowed range and the
-    value given (located in the input ``data``)."""
+    value given (located in the input ``data``).
+    """
     items = []
     for err in exc.errors():
         got = err.get("input")

@@ -1,5 +1,6 @@
 """Job and study records (SQLAlchemy: SQLite by default, PostgreSQL by URL) and result files
-(one HDF5 file per job)."""
+(one HDF5 file per job).
+"""
 
 from flexride.store.db import create_store_engine, get_engine, init_db
 from flexride.store.files import ChannelData, ResultFiles

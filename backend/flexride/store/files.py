@@ -167,7 +167,8 @@ class ResultFiles:
 
     def forget(self, name: str | None) -> int:
         """Drop the cached contents of file ``name`` (e.g. when its job is deleted); return
-        the number of entries dropped."""
+        the number of entries dropped.
+        """
         if not name:
             return 0
         return self.cache.discard(lambda key: key[1] == name)
@@ -179,7 +180,8 @@ class ResultFiles:
     def describe(self, name: str) -> dict[str, Any]:
         """Channel names and units, sample count, sample rate, duration and recorded points
         (``{"body", "name", "x", "y", "z"}`` in m, :func:`flexride.results.read_points`) of a
-        file. The answer is a fresh copy (callers may change it)."""
+        file. The answer is a fresh copy (callers may change it).
+        """
         p = self.path(name)
         tok = _token(p)
         d = self.cache.get_or_make(("describe", name, tok), lambda: self._describe(p))
@@ -242,7 +244,8 @@ class ResultFiles:
     def _dataset(self, p: Path, tok: FileToken, dataset: str, n: int, i0: int,
                  i1: int) -> np.ndarray:
         """Samples ``i0:i1`` of a 1-D dataset of ``n`` samples: from the cached whole dataset,
-        or read from the file alone when the whole one is too large to cache."""
+        or read from the file alone when the whole one is too large to cache.
+        """
         key = ("dataset", p.name, tok, dataset)
         if n * 8 > self.cache.max_entry_bytes:
             with _open(p) as f:

@@ -80,7 +80,8 @@ class ByteLRU:
 
     def put(self, key: Hashable, value: Any, nbytes: int) -> bool:
         """Keep ``value`` (``nbytes`` bytes) under ``key``, evicting the least recently used
-        entries beyond the bounds; False (nothing kept) if it is too large to keep."""
+        entries beyond the bounds; False (nothing kept) if it is too large to keep.
+        """
         nbytes = max(1, int(nbytes))
         if nbytes > self.max_entry_bytes or self.max_entries == 0:
             return False

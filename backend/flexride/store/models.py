@@ -44,7 +44,8 @@ class Study(Base):
 
 class Job(Base):
     """One job: its kind (:data:`JOB_KINDS`), scenario, state, progress, timings, summary and
-    result file."""
+    result file.
+    """
 
     __tablename__ = "flexride_jobs"
     __table_args__ = (

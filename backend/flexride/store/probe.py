@@ -50,7 +50,8 @@ def db_fault(exc: DBAPIError) -> str:
 
 def dir_problem(path: Path) -> str | None:
     """Why files cannot be written in ``path`` (created if missing), or None when a small
-    file can be written, synced and removed there."""
+    file can be written, synced and removed there.
+    """
     try:
         path.mkdir(parents=True, exist_ok=True)
         fd, name = tempfile.mkstemp(dir=path, prefix=".probe-", suffix=".tmp")
@@ -67,7 +68,8 @@ def dir_problem(path: Path) -> str | None:
 
 def db_problem(engine: Engine) -> str | None:
     """Why the database refuses writes, or None: a table is created in a transaction that is
-    rolled back, so nothing stays behind."""
+    rolled back, so nothing stays behind.
+    """
     try:
         with engine.connect() as conn:
             tx = conn.begin()

@@ -107,7 +107,8 @@ def check_run_size(scenario: Scenario, limits: Limits) -> RunEstimate:
 def check_fe_build(kind: str, vehicle: Vehicle, element_size_m: float, cutoff_hz: float,
                    limits: Limits, loc: tuple[str | int, ...]) -> None:
     """Refuse an FE body of ``kind`` beyond ``limits`` (cut-off, estimated degrees of freedom);
-    ``loc`` is the path of the body's settings in the request."""
+    ``loc`` is the path of the body's settings in the request.
+    """
     from flexride.fem.size import estimated_dofs
 
     if cutoff_hz > limits.max_fe_cutoff_hz:

@@ -1,5 +1,6 @@
-"""Study results as tables ready to plot, from the stored job summaries
-(:meth:`flexride.analysis.Summary.to_dict`):
+"""Study results as tables ready to plot, from the stored job summaries.
+
+The summaries are those of :meth:`flexride.analysis.Summary.to_dict`:
 
 * ``sperling_vs_speed`` — Sperling index (default form) against speed, per group of the other
   axes (condition, body model, parameters), point and direction;
@@ -26,7 +27,8 @@ _COMPARED = ("sperling", "a_w", "rms", "peak")
 def summary_value(summary: dict[str, Any] | None, point: str, direction: str,
                   quantity: str) -> float | None:
     """One number of a summary dict: ``sperling``, ``peak`` (max |a|), ``rms`` or ``a_w``
-    (ISO 2631 weighted rms, Wb for z, Wd for y); None when absent."""
+    (ISO 2631 weighted rms, Wb for z, Wd for y); None when absent.
+    """
     try:
         d = summary["points"][point]["directions"][direction]  # type: ignore[index]
         if quantity == "sperling":

@@ -107,7 +107,8 @@ class _Heartbeat(threading.Thread):
 
 class Reporter:
     """Throttled progress writes and cancellation reads of a running job (the ``progress`` and
-    ``cancel`` of :func:`flexride.solver.simulate`, given to every :data:`JobHandler`)."""
+    ``cancel`` of :func:`flexride.solver.simulate`, given to every :data:`JobHandler`).
+    """
 
     def __init__(self, ctx: JobContext, job_id: str, heartbeat: _Heartbeat):
         self.ctx, self.job_id, self.hb = ctx, job_id, heartbeat
@@ -117,7 +118,8 @@ class Reporter:
 
     def progress(self, fraction: float, message: str, force: bool = False) -> None:
         """Record progress, at most every :data:`PROGRESS_INTERVAL_S` unless ``force`` (or
-        done)."""
+        done).
+        """
         t = time.monotonic()
         if t - self.last_write < PROGRESS_INTERVAL_S and fraction < 1.0 and not force:
             return
@@ -131,7 +133,8 @@ class Reporter:
 
     def cancel(self, immediately: bool = False) -> bool:
         """Whether the run must stop (cancelled, deleted, taken over); the store is read at
-        most every :data:`PROGRESS_INTERVAL_S` unless ``immediately``."""
+        most every :data:`PROGRESS_INTERVAL_S` unless ``immediately``.
+        """
         if self.stop or self.hb.lost:
             return True
         t = time.monotonic()

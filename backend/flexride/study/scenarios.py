@@ -30,7 +30,8 @@ def canonical_json(data: Any) -> str:
 
 def scenario_hash(scenario: Scenario) -> str:
     """Content hash of what determines a run's numbers (name and description left out; the
-    flexride version included, so an upgrade never reuses old results)."""
+    flexride version included, so an upgrade never reuses old results).
+    """
     from flexride import __version__
 
     data = scenario.model_dump(mode="json")
@@ -63,7 +64,8 @@ def flexible_available() -> bool:
 def rigid_proxy(scenario: Scenario) -> Scenario:
     """What the submission check assembles: the scenario with rigid car body and frames and
     without measured irregularities (the stability limit does not depend on the excitation;
-    measured data are checked on admission, :mod:`flexride.study.admission`)."""
+    measured data are checked on admission, :mod:`flexride.study.admission`).
+    """
     data = scenario.model_dump(mode="json")
     data["bodies"]["carbody"]["model"] = "rigid"
     data["bodies"]["frames"]["model"] = "rigid"

@@ -1,6 +1,7 @@
 """Submission: turn validated scenarios into job records (or reuse stored results) and hand
 the queued ones to the runner. Used by the API for single jobs, for studies and for the
-builds of FE exports (jobs of kind ``fe_export``)."""
+builds of FE exports (jobs of kind ``fe_export``).
+"""
 
 from __future__ import annotations
 
@@ -68,14 +69,16 @@ class Submitter:
 
     def check_storage(self) -> None:
         """Refuse new jobs while the results directory takes no files (a job could not
-        write its results): :class:`~flexride.errors.StorageError` (503)."""
+        write its results): :class:`~flexride.errors.StorageError` (503).
+        """
         problem = dir_problem(self.files.root)
         if problem:
             raise StorageError(f"results directory not writable: {problem}")
 
     def admit(self, scenario: Scenario) -> RunEstimate:
         """The checks every job passes before it is recorded (:func:`.admission.admit`):
-        measured data from uploads or inline only, the run and its FE bodies within limits."""
+        measured data from uploads or inline only, the run and its FE bodies within limits.
+        """
         return admit(scenario, self.limits, self.uploads.sources)
 
     def _record(self, scenario: Scenario, *, name: str, preset: str | None, reuse: bool,

@@ -1,0 +1,1 @@
+"""The track: rail model, line geometry and irregularity profiles."""

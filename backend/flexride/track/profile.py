@@ -96,6 +96,7 @@ class IrregularityProfile:
     y_right: np.ndarray
 
     def __post_init__(self) -> None:
+        """Check the grid step and that the four arrays have one length."""
         if not (math.isfinite(self.ds) and self.ds > 0.0):
             raise ValueError(f"ds must be a positive grid step in m, got {self.ds}")
         arrays = [np.ascontiguousarray(getattr(self, k), dtype=np.float64) for k in RAIL_KEYS]
@@ -175,6 +176,7 @@ class IrregularityProfile:
         return IrregularityProfile(s0, ds, *(x + y for x, y in zip(a, b, strict=True)))
 
     def __radd__(self, other: object) -> IrregularityProfile:
+        """``0 + profile`` is the profile, so ``sum()`` of profiles works."""
         if isinstance(other, int | float) and other == 0:  # lets sum() start from 0
             return self
         return NotImplemented

@@ -1,0 +1,1 @@
+"""The vehicle: bodies, suspension elements and recorded points."""

@@ -66,7 +66,8 @@ weighting rather than seat)."""
 class SuspensionElement:
     """Linear spring–damper between marker ``marker_a`` of body ``body_a`` and ``marker_b`` of
     ``body_b``. Stiffness and damping are given for the six relative motions (x, y, z in N/m and
-    N·s/m; roll, pitch, yaw in N·m/rad and N·m·s/rad), in the track frame of body A."""
+    N·s/m; roll, pitch, yaw in N·m/rad and N·m·s/rad), in the track frame of body A.
+    """
 
     name: str
     body_a: int
@@ -277,7 +278,8 @@ def _bodies(params: Vehicle, carbody: ModalBody | None,
             frames: tuple[ModalBody, ModalBody] | None) -> list[ModalBody]:
     """The seven bodies front to rear: the car body at x = 0, the frames at ± half the bogie
     spacing, the wheelsets at ± half the wheelbase from their frame (m); rigid unless flexible
-    replacements are given."""
+    replacements are given.
+    """
     g = params.geometry
     lc = g.bogie_centre_spacing / 2.0
     lw = g.wheelbase / 2.0
@@ -312,7 +314,8 @@ def _bodies(params: Vehicle, carbody: ModalBody | None,
 @dataclass(frozen=True)
 class _SuspensionRates:
     """Six-component stiffness (N/m, N·m/rad) and damping (N·s/m, N·m·s/rad) of the primary
-    and secondary suspension elements (translations only; rotations zero)."""
+    and secondary suspension elements (translations only; rotations zero).
+    """
 
     k_prim: np.ndarray
     c_prim: np.ndarray
@@ -331,7 +334,8 @@ def _secondary_suspension(params: Vehicle, bodies: list[ModalBody], jf: int, i_f
                           rates: _SuspensionRates) -> list[SuspensionElement]:
     """The air springs of bogie ``jf`` (0 front, 1 rear; frame body ``i_f``), left and right,
     at the secondary height and lateral half spacing (m), with their markers ``as<n><L|R>`` on
-    the car body and the frame; then the bogie-centre markers ``bogie<n>`` (pivot)."""
+    the car body and the frame; then the bogie-centre markers ``bogie<n>`` (pivot).
+    """
     g = params.geometry
     carbody_body, frame = bodies[_I_CARBODY], bodies[i_f]
     xf = frame.x_ref
@@ -361,7 +365,8 @@ def _optional_elements(params: Vehicle, bodies: list[ModalBody], jf: int,
                        i_f: int) -> list[SuspensionElement]:
     """The optional elements of bogie ``jf`` (frame body ``i_f``) whose rate is not zero: the
     anti-roll bar (roll stiffness N·m/rad at the bogie centre), the secondary lateral damper
-    (N·s/m at its height) and the yaw dampers left and right (N·s/m), with their markers."""
+    (N·s/m at its height) and the yaw dampers left and right (N·s/m), with their markers.
+    """
     g, o = params.geometry, params.optional
     carbody_body, frame = bodies[_I_CARBODY], bodies[i_f]
     xf = frame.x_ref
@@ -430,7 +435,8 @@ def _primary_suspension(params: Vehicle, bodies: list[ModalBody], jf: int, i_f: 
     """The axle-box springs of bogie ``jf`` (frame body ``i_f``): two per wheelset, left and
     right at the primary height and lateral half spacing (m), with markers
     ``<wheelset>.axlebox<L|R>`` on the frame and ``axlebox<L|R>`` on the wheelset (pitch
-    locked: the wheelset's pitch coordinate is its spin)."""
+    locked: the wheelset's pitch coordinate is its spin).
+    """
     g = params.geometry
     frame = bodies[i_f]
     elements = []

@@ -23,7 +23,8 @@ Reduction = BodyModel.model_fields["reduction"].annotation
 
 def _body_query(name: str) -> Any:
     """``Query`` with the description and bounds of field ``name`` of the scenario's body
-    model (``bodies.carbody`` / ``bodies.frames``), so both take the same values."""
+    model (``bodies.carbody`` / ``bodies.frames``), so both take the same values.
+    """
     info = BodyModel.model_fields[name]
     kw: dict[str, Any] = {"description": info.description}
     for m in info.metadata:
@@ -92,6 +93,7 @@ def job_fe_model(job_id: JobId, kind: Kind, svc: ServicesDep, may_build: TokenOk
     """The FE model of a simulation job's flexible car body (``kind=carbody``) or bogie frames
     (``kind=frame``): its own vehicle and ``bodies`` settings, in any job state. Answers as
     ``GET /fe/{kind}`` (200, 202 while building); 409 when the job's body is rigid or the job
-    is not a simulation."""
+    is not a simulation.
+    """
     return svc_fe.respond(svc.fe, svc_fe.job_spec(svc, job_id, kind, max_modes),
                           may_start=may_build)

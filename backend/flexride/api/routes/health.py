@@ -18,7 +18,8 @@ router = APIRouter(tags=["service"])
             responses={503: {"model": HealthOut, "description": "The database is down"}})
 def health(svc: ServicesDep, request: Request) -> Any:
     """API, database, storage (writable?), broker (Celery runner) and the workers seen in the
-    last hour; ``degraded`` while the storage takes no writes."""
+    last hour; ``degraded`` while the storage takes no writes.
+    """
     from fastapi.encoders import jsonable_encoder
 
     status, body = svc_health.health(svc, recent_storage_fault(request.app))

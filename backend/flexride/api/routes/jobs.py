@@ -38,7 +38,8 @@ def validate_job(body: JobCreate, svc: ServicesDep) -> dict[str, Any]:
     service's limits and time-step stability), without creating a job:
     ``{"valid": true, "estimate": {...}, "preflight": {...}}`` or the same 422 as a
     submission (field paths, allowed ranges, ``dt_suggested``). Needs the token when the
-    service has one (it costs CPU)."""
+    service has one (it costs CPU).
+    """
     return svc_jobs.validate_job(svc, body)
 
 
@@ -54,7 +55,8 @@ def list_jobs(
     offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
 ) -> dict[str, Any]:
     """Jobs newest first, filtered by status, study and kind (simulations unless asked),
-    a page at a time."""
+    a page at a time.
+    """
     return svc_jobs.list_jobs(svc, status, study_id, limit, offset, kind)
 
 

@@ -44,7 +44,8 @@ def scenario_schema() -> dict[str, Any]:
 def paper_points() -> list[dict[str, Any]]:
     """The paper's car-body points (PR, PFB, PC, PRB, PLA, PRA) in channel order, with a
     one-line description and where each sits; a run's own points (with positions) are in
-    ``GET /jobs/{id}/channels``."""
+    ``GET /jobs/{id}/channels``.
+    """
     from dataclasses import asdict
 
     from flexride.vehicle.topology import PAPER_POINTS

@@ -3,7 +3,8 @@ cross-correlation and the HDF5 download.
 
 Every JSON answer goes through :func:`flexride.api.services.result_cache.cached_answer`: the
 job is checked in the database on every request, the rendered answer of a finished job is
-kept in memory, keyed by the job, its file and every parameter passed here."""
+kept in memory, keyed by the job, its file and every parameter passed here.
+"""
 
 from __future__ import annotations
 
@@ -50,7 +51,8 @@ def _channels(names: list[str]) -> list[str]:
 @router.get("/summary", response_model=dict[str, Any], summary="Comfort summary")
 def summary(request: Request, job_id: JobId, svc: ServicesDep) -> Any:
     """Comfort indices (Sperling, ISO 2631, EN 12299), peaks, rms, dominant frequencies per
-    point and direction, correlations and running safety (``flexride.analysis.analyze``)."""
+    point and direction, correlations and running safety (``flexride.analysis.analyze``).
+    """
     return cached_answer(request, svc, job_id, "summary", (),
                          lambda: svc_results.summary(svc, job_id), from_file=False)
 
@@ -77,7 +79,8 @@ def series(
     distance: Annotated[bool, Query(description="Include the distance axis (m)")] = False,
 ) -> Any:
     """Channels decimated on the server to at most ``max_points`` samples each, with their
-    sample times."""
+    sample times.
+    """
     names = _channels(channels)
     return cached_answer(request, svc, job_id, "series",
                          (tuple(names), max_points, method, t_start, t_end, distance),
@@ -96,7 +99,8 @@ def spectrum(
     max_points: Annotated[int, Query(ge=10, le=200_000)] = 5000,
 ) -> Any:
     """One-sided peak-amplitude spectrum of the whole record (m/s² per line), with the
-    dominant peaks."""
+    dominant peaks.
+    """
     names = _channels(channels)
     return cached_answer(request, svc, job_id, "spectrum",
                          (tuple(names), fmax, dynamic, max_points),
@@ -147,7 +151,8 @@ def spectrogram(
 def sperling(request: Request, job_id: JobId, svc: ServicesDep, channels: Channels,
              dynamic: Dynamic = True) -> Any:
     """Sperling index (spectral form, 5 s segments) with W per spectral line and per
-    third-octave band, and the filter form for comparison (records of at least 5 s)."""
+    third-octave band, and the filter form for comparison (records of at least 5 s).
+    """
     names = _channels(channels)
     return cached_answer(request, svc, job_id, "sperling", (tuple(names), dynamic),
                          lambda: svc_results.sperling_breakdown(svc, job_id, names, dynamic))
@@ -166,7 +171,8 @@ def correlation(
     max_points: Annotated[int, Query(ge=10, le=200_000)] = 4000,
 ) -> Any:
     """R_ab(τ) of the reference (a) with each channel (b): a maximum at τ > 0 means b lags
-    a; normalised curve, lag and value of the maximum, local maxima."""
+    a; normalised curve, lag and value of the maximum, local maxima.
+    """
     names = _channels(channels)
     return cached_answer(request, svc, job_id, "correlation",
                          (reference, tuple(names), max_lag_s, dynamic, max_points),

@@ -24,7 +24,8 @@ _AUTH_DOC: dict[int | str, dict[str, Any]] = {
 def submit_study(body: StudyCreate, svc: ServicesDep) -> dict[str, Any]:
     """Create the job matrix of a base scenario and its axes (conditions × speeds × body
     models × parameters) and queue every job. ``{"preset": "paper-table3"}`` runs the
-    paper's 16 conditions."""
+    paper's 16 conditions.
+    """
     return svc_studies.create_study(svc, body)
 
 
@@ -41,7 +42,8 @@ def list_studies(
 @router.get("/studies/{study_id}", response_model=StudyDetail, summary="Study detail")
 def get_study(study_id: StudyId, svc: ServicesDep) -> dict[str, Any]:
     """Jobs of the study and its tables: Sperling vs speed per condition and point, peak
-    acceleration vs speed with linear fit and R², flexible vs rigid differences."""
+    acceleration vs speed with linear fit and R², flexible vs rigid differences.
+    """
     return svc_studies.study_detail(svc, study_id)
 
 

@@ -47,7 +47,8 @@ async def upload_irregularities(request: Request, response: Response, svc: Servi
     """Check a CSV of measured irregularities (the body, at most the service's body size
     limit) and store it by the SHA-256 of its content; the same content gives the same id.
     Refer to it in a scenario as ``{"kind": "measured", "upload": "<id>"}``. Bad data give
-    422 naming line and column."""
+    422 naming line and column.
+    """
     try:
         info = svc.uploads.put(await request.body(), distance_column)
     except ScenarioError as err:

@@ -92,7 +92,8 @@ def lttb_indices(x: np.ndarray, y: np.ndarray, max_points: int) -> np.ndarray:
 
 def _writable(a: np.ndarray) -> np.ndarray:
     """``a`` as a contiguous, writable float64 array (copied only if needed): cached result
-    arrays are read-only, and numba would compile a second LTTB for read-only arrays."""
+    arrays are read-only, and numba would compile a second LTTB for read-only arrays.
+    """
     a = np.ascontiguousarray(a, dtype=np.float64)
     return a if a.flags.writeable else a.copy()
 

@@ -263,7 +263,8 @@ def respond(exports: FEExports, spec: ExportSpec, may_start: bool = True) -> Res
     """The HTTP answer for ``spec``: 200 with the export, 202 while its job is queued or
     running, 401 when a build would be submitted without the API token, 422 when the
     parameters give no FE model, 503 when the build failed otherwise or too many are
-    queued."""
+    queued.
+    """
     st = exports.state(spec, may_start=may_start)
     if st.status == "ready" and st.path is not None:
         return FileResponse(st.path, media_type="application/json",

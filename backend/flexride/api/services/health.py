@@ -66,7 +66,8 @@ def storage_health(svc: Services, db_reachable: bool, recent_fault: str | None =
     """Whether the results and upload directories and the database take writes: probes of
     :mod:`flexride.store.probe` (reused for ``STORAGE_PROBE_TTL_S``), and ``recent_fault``, a
     write of a request that failed lately (a full SQLite file still takes the probe's small
-    rolled-back write in its log, but not a new job)."""
+    rolled-back write in its log, but not a new job).
+    """
     key = id(svc)
     hit = _probe_cache.get(key)
     if hit is None or time.monotonic() - hit[0] >= STORAGE_PROBE_TTL_S:

@@ -47,7 +47,8 @@ def create_job(svc: Services, body: JobCreate) -> JobSubmitted:
 def validate_job(svc: Services, body: JobCreate) -> dict[str, Any]:
     """Validate and check a job request exactly as :func:`create_job` does, without creating
     anything: 200 with the run's size and the submission check, or the same 422 as a
-    submission."""
+    submission.
+    """
     from flexride.study.scenarios import check_submission
 
     scenario = resolve_scenario(body.scenario, body.preset, body.overrides)
@@ -97,7 +98,8 @@ def cancel_job(svc: Services, job_id: str) -> JobOut:
 
 def delete_job(svc: Services, job_id: str) -> None:
     """Delete a job's record and its result file (a running job is cancelled); see
-    :func:`delete_records_and_files`."""
+    :func:`delete_records_and_files`.
+    """
     job = get_job(svc, job_id)
     deleted = delete_records_and_files(svc, [job.result_file],
                                        lambda: svc.store.delete_job(job_id))
@@ -114,7 +116,8 @@ def delete_records_and_files(svc: Services, names: list[str | None],
     or a file without its record: the files are first renamed aside (a read-only results
     directory fails here, with nothing changed), then the records are deleted (a refusing
     database puts the files back), then the files are removed (a crash before that leaves
-    only ``.deleting-`` files, swept at the next start)."""
+    only ``.deleting-`` files, swept at the next start).
+    """
     aside: list[tuple[Path, Path]] = []
     try:
         for name in names:
@@ -133,7 +136,8 @@ def delete_records_and_files(svc: Services, names: list[str | None],
 
 def forget_cached(svc: Services, job_ids: list[str]) -> None:
     """Free what the read caches hold of deleted jobs (they would be dropped at the next
-    sweep anyway; a deleted job is never served from them)."""
+    sweep anyway; a deleted job is never served from them).
+    """
     from flexride.api.services.result_cache import forget_job
 
     for job_id in job_ids:
@@ -142,7 +146,8 @@ def forget_cached(svc: Services, job_ids: list[str]) -> None:
 
 def _set_aside(svc: Services, name: str | None) -> tuple[Path, Path] | None:
     """Rename result file ``name`` to ``.deleting-<name>``: (original, moved), or None when
-    there is no file."""
+    there is no file.
+    """
     if not name or not svc.files.exists(name):
         return None
     path = svc.files.path(name)

@@ -107,7 +107,8 @@ class ResponseCache:
 
     def sweep(self, force: bool = False) -> int:
         """Drop entries of result files that were deleted or replaced since they were read
-        (at most every :data:`SWEEP_INTERVAL_S` unless ``force``); return how many."""
+        (at most every :data:`SWEEP_INTERVAL_S` unless ``force``); return how many.
+        """
         now = time.monotonic()
         if not force and now - self._swept < SWEEP_INTERVAL_S:
             return 0
@@ -133,7 +134,8 @@ class ResponseCache:
 
 def _stale(current: Mapping[Any, Any], name: Any, token: Any) -> bool:
     """Whether an entry of file ``name`` read at version ``token`` is out of date (the file
-    is gone, or was replaced when the entry depends on its contents)."""
+    is gone, or was replaced when the entry depends on its contents).
+    """
     now = current.get(name)
     return now is None or (token is not None and token != now)
 
@@ -144,7 +146,8 @@ _CACHES_LOCK = threading.Lock()
 
 def response_cache(svc: Services) -> ResponseCache:
     """The answer cache of the application of ``svc`` (created on first use; its bound is
-    ``settings.response_cache_mb`` when the settings have it, else 64 MB)."""
+    ``settings.response_cache_mb`` when the settings have it, else 64 MB).
+    """
     with _CACHES_LOCK:
         cache = _CACHES.get(svc.files)
         if cache is None:
@@ -157,7 +160,8 @@ def response_cache(svc: Services) -> ResponseCache:
 def replace_response_cache(svc: Services, max_bytes: int,
                            max_entries: int = DEFAULT_MAX_ENTRIES) -> ResponseCache:
     """Give the application of ``svc`` a new, empty answer cache with these bounds (bytes,
-    entries) and return it."""
+    entries) and return it.
+    """
     with _CACHES_LOCK:
         cache = _CACHES[svc.files] = ResponseCache(svc.files, max_bytes, max_entries)
         return cache
@@ -194,7 +198,8 @@ def accepts_gzip(request: Request) -> bool:
 
 def render(content: Any, gzip_min: int | None) -> Rendered:
     """JSON of ``content`` (non-finite numbers as null) and its gzip encoding when the body
-    has at least ``gzip_min`` bytes (None: never)."""
+    has at least ``gzip_min`` bytes (None: never).
+    """
     body = bytes(SafeJSONResponse(content).body)
     gz = None
     if gzip_min is not None and len(body) >= gzip_min:

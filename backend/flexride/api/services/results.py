@@ -59,7 +59,8 @@ def _num(v: Any) -> float | None:
 
 def result_file(svc: Services, job_id: str) -> str:
     """Name of the result file of a succeeded job (one query of one column), or
-    :class:`NotFound` / :class:`Conflict` saying why there is none."""
+    :class:`NotFound` / :class:`Conflict` saying why there is none.
+    """
     name = svc.store.result_file_of(job_id)
     if name is None:
         return str(finished_job(svc, job_id).result_file)  # raises with the reason
@@ -91,7 +92,8 @@ def _prepare(x: np.ndarray, fs: float, dynamic: bool) -> tuple[np.ndarray, bool]
 def channel_list(svc: Services, job_id: str) -> dict[str, Any]:
     """Channels of a job with units and sampling, and the recorded points with their
     positions (m, nominal vehicle geometry: x from the car-body centre forward, y left, z above
-    top of rail); each channel of a recorded point carries that point's ``position``."""
+    top of rail); each channel of a recorded point carries that point's ``position``.
+    """
     d = svc.files.describe(result_file(svc, job_id))
     where = {(p["body"], p["name"]): [p["x"], p["y"], p["z"]] for p in d["points"]}
     chans = []
@@ -240,7 +242,8 @@ def _sperling_lines(x: np.ndarray, fs: float, direction: str) -> tuple[np.ndarra
 def sperling_breakdown(svc: Services, job_id: str, channels: list[str],
                        dynamic: bool) -> dict[str, Any]:
     """Sperling index per channel with its contribution per spectral line and per
-    third-octave band (spectral form, pinned defaults of :mod:`flexride.analysis.sperling`)."""
+    third-octave band (spectral form, pinned defaults of :mod:`flexride.analysis.sperling`).
+    """
     data = _read(svc, job_id, channels)
     fs = data.sample_rate
     rows = []
