@@ -217,6 +217,11 @@ class Settings(BaseSettings):
         64.0, ge=0.0, le=1.0e6,
         description="Memory for rendered answers of finished jobs kept between requests (MB)",
     )
+    api_threads: int = Field(
+        8, ge=1, le=256,
+        description="Threads of the API for its synchronous routes (reads of the store and "
+        "the result files)",
+    )
     fe_wait_s: float = Field(
         3.0, ge=0.0, le=60.0,
         description="How long GET /fe waits for a running FE build before answering 202 (s)",
