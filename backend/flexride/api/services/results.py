@@ -30,7 +30,7 @@ from flexride.api.errors import NotFound
 from flexride.api.services.decimate import decimate_indices, minmax_indices
 from flexride.api.services.jobs import finished_job
 from flexride.errors import AnalysisError, ScenarioError
-from flexride.results import POINT_FRAME
+from flexride.results import POINT_FRAME, Channel
 from flexride.store import ChannelData
 
 MAX_SPECTROGRAM_CELLS = 250_000
@@ -98,11 +98,11 @@ def channel_list(svc: Services, job_id: str) -> dict[str, Any]:
     where = {(p["body"], p["name"]): [p["x"], p["y"], p["z"]] for p in d["points"]}
     chans = []
     for name, unit in sorted(d["channels"].items()):
-        parts = name.split(".")
+        ch = Channel.parse(name)
         info: dict[str, Any] = {"name": name, "unit": unit}
-        if len(parts) == 4:
-            info.update(body=parts[0], point=parts[1], quantity=parts[2], direction=parts[3])
-            info["position"] = where.get((parts[0], parts[1]))
+        if ch is not None:
+            info.update(body=ch.body, point=ch.point, quantity=ch.quantity,
+                        direction=ch.direction, position=where.get((ch.body, ch.point)))
         chans.append(info)
     return {"job_id": job_id, "sample_rate_hz": d["sample_rate_hz"], "n_samples": d["n_samples"],
             "t_start_s": d["t_start_s"], "t_end_s": d["t_end_s"], "channels": chans,
@@ -216,7 +216,9 @@ def spectrogram_of(svc: Services, job_id: str, channel: str, window_s: float, ov
 
 
 def _direction(name: str) -> str:
-    d = name.rsplit(".", 1)[-1]
+    """Sperling's direction of an acceleration channel."""
+    ch = Channel.parse(name)
+    d = ch.direction if ch is not None and ch.quantity == "acc" else None
     if d == "z":
         return "vertical"
     if d == "y":
