@@ -18,7 +18,7 @@ CURVE = {"kind": "curve", "radius_m": 800.0, "direction": "left", "superelevatio
 @pytest.mark.parametrize("speed_kmh", [60.0, 80.4, 100.0])
 def test_quasi_static_lateral_acceleration(speed_kmh):
     sc = preset("paper-metro", line=CURVE, speed_kmh=speed_kmh, duration_s=None,
-                distance_m=300.0)
+                distance_m=300.0, contact__geometry="conical")
     res = simulate(sc)
     s = res.distance
     in_arc = (s > 30 + 55 + 60) & (s < 30 + 55 + 300 - 10)  # body and bogies all on the arc

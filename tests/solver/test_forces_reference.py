@@ -19,6 +19,14 @@ plain NumPy, dense matrices, no numba, no discrete-orthogonality shortcut.
   turned by γ + side·φ into the track frame, the flange spring beyond the clearance, the spin
   moment about the contact normal, creep relaxation exp(−Δt·V/a).
 
+* Real profiles (``contact.geometry: profiles``), per wheel both slots of the two-slot table
+  (tread and flange branch; np.interp of each field): vertical compression
+  δ_z = z_rail + z_irr − (z + sg·b0·φ) + dz, normal approach δ_z·cos(γ + sg·φ), N = (δ_n/G)^{3/2}
+  with the slot's G; creepages from the slip velocity of the wheel's material point (centre
+  velocity + ω × arm, ω = (φ̇, V/r0 + β̇, ψ̇), minus the rail's velocity, −Vψ in the yawed
+  wheelset) projected on the slot's contact frame; spin ψ̇·n_z/V − sg·sin γ/r0; each slot's
+  forces along its own normal and tangent, moments by cross products, summed.
+
 States are small random perturbations of the paper vehicle on its rails (wheels pressed in by
 their share of the weight), on straight track with random irregularity; rigid, and with an
 analytic flexible car body (free–free beam bending modes).
@@ -41,8 +49,13 @@ from flexride.bodies import ModalBody
 from flexride.solver.assemble import assemble
 from flexride.solver.forces import evaluate
 from flexride.solver.static import initial_window_start
-from flexride.solver.system import AUX_N, N_AUX
+from flexride.solver.system import AUX_ANGLE, AUX_N, AUX_N_FLANGE, N_AUX
 from flexride.vehicle.topology import build_vehicle
+
+#: Real profiles as a run with them is set up: S1002/60E1 at 1:40 with the EN flange-back
+#: distance and the step their stiffer contact needs (docs/model.md)
+PROFILES = {"contact__geometry": "profiles", "contact__flange_back_distance": 1.36,
+            "solver__dt": 6.25e-5}
 
 G_ACC = 9.81  # m/s², the model's gravity
 TRACTION_HZ = 0.05  # docs/model.md: soft longitudinal link
@@ -200,7 +213,7 @@ def wheel_contact(sc, table, irr, side, q_ws, v_ws, rail_q, rail_v, s_w, cst_pre
         xi_sp = dpsi / vref - sg * math.sin(gam) / r0
         n13 = N ** (1 / 3)
         a, b = tab("ca") * n13, tab("cb") * n13
-        gab = c.shear_modulus * a * b
+        gab = c.shear_modulus_for(sc.track.rail.youngs_modulus) * a * b
         f11, f22 = gab * tab("c11"), gab * tab("c22")
         f23, f33 = gab * math.sqrt(a * b) * tab("c23"), gab * a * b * tab("c33")
         fx, fy, mz = she(-f11 * xi_x, -f22 * xi_y - f23 * xi_sp, f23 * xi_y - f33 * xi_sp,
@@ -221,6 +234,70 @@ def wheel_contact(sc, table, irr, side, q_ws, v_ws, rail_q, rail_v, s_w, cst_pre
     return np.concatenate([force, moment]), rail_load, N
 
 
+def wheel_contact_profiles(sc, ptable, irr, side, q_ws, v_ws, rail_q, rail_v, s_w, cst_prev,
+                           dt):
+    """As :func:`wheel_contact` for the two-slot table of real profiles; ``cst_prev`` holds
+    (Fx, Fy, Mz) of slot 0 then slot 1; returns also the new creep state."""
+    sg = 1.0 if side == 0 else -1.0
+    c = sc.contact
+    b0 = ptable.b0
+    r0 = sc.vehicle.geometry.wheel_radius
+    h_head = sc.track.rail.head_above_shear_centre
+    g_shear = c.shear_modulus_for(sc.track.rail.youngs_modulus)
+    V = sc.speed_mps
+    vref = max(V, V_MIN_CREEP)
+    _, y, z, phi, _, psi = q_ws
+    dx, dy, dz_w, dphi, dbeta, dpsi = v_ws
+    zr, yr, th = rail_q
+    vzr, vyr, vth = rail_v
+    zl_irr, zr_irr, yl_irr, yr_irr = (float(np.atleast_1d(a)[0]) for a in irr.sample(s_w))
+    z_irr = zl_irr if side == 0 else zr_irr
+    y_irr = yl_irr if side == 0 else yr_irr
+    d_y = y - (yr - h_head * th + y_irr)
+    v_rail = np.array([0.0, vyr - h_head * vth, vzr])
+    omega = np.array([dphi, V / r0 + dbeta, dpsi])
+    total = np.zeros(6)
+    state = np.zeros(6)
+    n_sum = 0.0
+    for slot in range(2):
+        def tab(name, slot=slot):
+            return float(np.interp(d_y, ptable.y_grid, ptable.field(name)[side, slot]))
+
+        delta_z = (zr + z_irr) - (z + sg * b0 * phi) + tab("dz")
+        gam = tab("gamma")
+        ge = gam + sg * phi
+        delta_n = delta_z * math.cos(ge)
+        if delta_z <= 0 or delta_n <= 0:
+            continue
+        N = (delta_n / tab("gh")) ** 1.5
+        r = tab("r")
+        arm = np.array([0.0, sg * b0 + tab("yc"), -r])
+        n_vec = np.array([0.0, -sg * math.sin(ge), math.cos(ge)])  # normal on the wheel
+        t_vec = np.array([0.0, math.cos(ge), sg * math.sin(ge)])  # lateral tangent
+        slip = np.array([V + dx, dy, dz_w]) + np.cross(omega, arm) - v_rail
+        slip[1] -= V * psi  # the yawed wheelset sees the forward speed turned by −ψ
+        xi_x = slip[0] / vref
+        xi_y = float(slip @ t_vec) / vref
+        xi_sp = dpsi * n_vec[2] / vref - sg * math.sin(gam) / r0
+        n13 = N ** (1 / 3)
+        a, b = tab("ca") * n13, tab("cb") * n13
+        gab = g_shear * a * b
+        f11, f22 = gab * tab("c11"), gab * tab("c22")
+        f23, f33 = gab * math.sqrt(a * b) * tab("c23"), gab * a * b * tab("c33")
+        fx, fy, mz = she(-f11 * xi_x, -f22 * xi_y - f23 * xi_sp, f23 * xi_y - f33 * xi_sp,
+                         c.friction * N)
+        if dt > 0:
+            e = math.exp(-dt * vref / a)
+            prev = cst_prev[3 * slot:3 * slot + 3]
+            fx, fy, mz = (f + (p - f) * e for f, p in zip((fx, fy, mz), prev, strict=True))
+        state[3 * slot:3 * slot + 3] = fx, fy, mz
+        force = fx * np.array([1.0, 0.0, 0.0]) + fy * t_vec + N * n_vec
+        total += np.concatenate([force, np.cross(arm, force) + mz * n_vec])
+        n_sum += N
+    rail_load = (-total[2], -total[1], h_head * total[1])
+    return total, rail_load, n_sum, state
+
+
 # ----------------------------------------------------------------------------- the twin
 
 
@@ -238,7 +315,8 @@ def reference_accelerations(sc, asm, X, V, s, s_win0, cst_prev=None, dt=0.0):
                for r in range(2)]
     off = offsets(veh.bodies)
     loads = np.zeros((len(veh.wheelsets), 2))
-    cst_prev = np.zeros((len(veh.wheelsets), 2, 3)) if cst_prev is None else cst_prev
+    if cst_prev is None:
+        cst_prev = np.zeros((len(veh.wheelsets), 2, 6))
     for w, bi in enumerate(veh.wheelsets):
         o = off[bi]
         s_w = s + veh.bodies[bi].x_ref
@@ -248,9 +326,14 @@ def reference_accelerations(sc, asm, X, V, s, s_win0, cst_prev=None, dt=0.0):
             vblk = [V[nv + (3 * side + k) * nm:][:nm] for k in range(3)]
             rq = [float(shape @ q) for q in blk]
             rv = [float(shape @ v) for v in vblk]
-            gen, (pz, qy, mt), N = wheel_contact(
-                sc, asm.contact, asm.irregularity, side, X[o:o + 6], V[o:o + 6], rq, rv, s_w,
-                cst_prev[w, side], dt)
+            if asm.profiles is not None:
+                gen, (pz, qy, mt), N, _ = wheel_contact_profiles(
+                    sc, asm.profiles, asm.irregularity, side, X[o:o + 6], V[o:o + 6], rq, rv,
+                    s_w, cst_prev[w, side], dt)
+            else:
+                gen, (pz, qy, mt), N = wheel_contact(
+                    sc, asm.contact, asm.irregularity, side, X[o:o + 6], V[o:o + 6], rq, rv,
+                    s_w, cst_prev[w, side], dt)
             Fv[o:o + 6] += gen
             rail_z[side] += pz * shape
             rail_lt[side][:nm] += qy * shape
@@ -271,20 +354,25 @@ def kernel_accelerations(asm, X, V, s, s_win0, cst_prev=None, dt=0.0):
     F, A = np.zeros(n), np.zeros(n)
     aux = np.zeros((nw, 2, N_AUX))
     sn = np.zeros(asm.rail.n_modes)
-    cst = np.zeros((nw, 2, 3)) if cst_prev is None else cst_prev.copy()
+    cst = np.zeros((nw, 2, 6)) if cst_prev is None else cst_prev.copy()
     evaluate(asm.sys, X.copy(), V.copy(), s, s_win0, F, A, aux, sn, cst, dt)
     return A, aux
 
 
-def random_state(asm, sc, rng, scale_v=1.0, lift=False):
+def random_state(asm, sc, rng, scale_v=1.0, lift=False, y_set=None):
     """Wheels pressed onto the undeformed rails by their share of the weight (or lifted by
-    5 cm, clear of the irregularity), every coordinate perturbed a little, random velocities."""
+    5 cm, clear of the irregularity), every coordinate perturbed a little, random velocities;
+    ``y_set`` {wheelset index: lateral displacement} moves wheelsets before they are pressed
+    in."""
     veh = asm.vehicle
     off = offsets(veh.bodies)
     nv = sum(b.n_dof for b in veh.bodies)
     n = asm.sys.minv.size
     weight = sum(b.mass for b in veh.bodies) * G_ACC
     delta0 = hertz_g(sc.vehicle.geometry.wheel_radius) * (weight / 8) ** (2 / 3)
+    if asm.profiles is not None:  # the tread's Hertz constant at the centred position
+        delta0 = float(np.interp(0.0, asm.profiles.y_grid, asm.profiles.field("gh")[0, 0])
+                       ) * (weight / 8) ** (2 / 3)
     X = np.zeros(n)
     V = np.zeros(n)
     X[:nv] = 1e-6 * rng.standard_normal(nv)  # m, rad, modal
@@ -292,8 +380,10 @@ def random_state(asm, sc, rng, scale_v=1.0, lift=False):
     V[:nv] = 1e-2 * scale_v * rng.standard_normal(nv)
     V[nv:] = 1e-4 * scale_v * rng.standard_normal(n - nv)
     b0 = sc.vehicle.geometry.rolling_circle_half_distance
-    for bi in veh.wheelsets:
+    for w, bi in enumerate(veh.wheelsets):
         o = off[bi]
+        if y_set and w in y_set:
+            X[o + 1] = y_set[w]
         if lift:
             X[o + 2] += 0.05
             continue
@@ -301,6 +391,7 @@ def random_state(asm, sc, rng, scale_v=1.0, lift=False):
         # rail's vertical irregularity plus the rise of its contact point
         irr = [float(a) for a in asm.irregularity.sample(S_CENTRE + veh.bodies[bi].x_ref)]
         X[o + 1] += 0.5 * (irr[2] + irr[3])
+        b0 = asm.sys.par.b0
         top = [irr[side] + float(np.interp(X[o + 1] - irr[2 + side], asm.contact.y_grid,
                                            asm.contact.dz[side])) - delta0 for side in (0, 1)]
         X[o + 2] += 0.5 * (top[0] + top[1])
@@ -358,7 +449,8 @@ def beam_carbody(params, f1_hz=8.0, n_modes=2, zeta=0.02, length=19.0) -> ModalB
 
 @pytest.fixture(scope="module", params=["rigid", "flexible"])
 def case(request):
-    sc = preset("paper-random-straight-80", distance_m=None, duration_s=4.0)
+    sc = preset("paper-random-straight-80", distance_m=None, duration_s=4.0,
+                contact__geometry="conical")
     assert sc.contact.hertz_tread == "worn" and sc.line.kind == "straight"  # the twin's scope
     veh = None
     if request.param == "flexible":
@@ -408,6 +500,54 @@ def test_flange_contact_and_creep_relaxation(case):
         assert_close(a_ker, a_ref, asm, 1e-9)
 
 
+@pytest.fixture(scope="module", params=["rigid", "flexible"])
+def case_profiles(request):
+    sc = preset("paper-random-straight-80", distance_m=None, duration_s=4.0,
+                **PROFILES)
+    assert sc.line.kind == "straight"
+    veh = None
+    if request.param == "flexible":
+        veh = build_vehicle(sc.vehicle, sc.output, carbody=beam_carbody(sc.vehicle))
+    asm = assemble(sc, vehicle=veh)
+    assert asm.profiles is not None
+    return sc, asm, initial_window_start(asm, S_CENTRE)
+
+
+@pytest.mark.parametrize("scale_v", [0.1, 30.0])
+def test_two_slot_profile_contact(case_profiles, scale_v):
+    """Real profiles, tread contact (nearly linear and saturated creep)."""
+    sc, asm, s_win0 = case_profiles
+    rng = np.random.default_rng(4)
+    for _ in range(3):
+        X, V = random_state(asm, sc, rng, scale_v=scale_v)
+        a_ker, aux = kernel_accelerations(asm, X, V, S_CENTRE, s_win0)
+        a_ref, loads = reference_accelerations(sc, asm, X, V, S_CENTRE, s_win0)
+        assert loads.min() > 0.0
+        np.testing.assert_allclose(aux[:, :, AUX_N], loads, rtol=1e-9)
+        assert_close(a_ker, a_ref, asm, 1e-9)
+
+
+def test_two_slot_flange_and_two_point_contact(case_profiles):
+    """Wheelsets in two-point contact (tread and flange root both loaded) and on the flange,
+    with creep relaxation from a random previous state."""
+    sc, asm, s_win0 = case_profiles
+    rng = np.random.default_rng(5)
+    # 4.8 mm: both slots of the left wheel within reach (two-point band of S1002/60E1 at
+    # the 1360 mm flange-back distance, 4.3–5.35 mm); −9 mm: the right wheel on its flange
+    X, V = random_state(asm, sc, rng, y_set={0: 0.0048, 1: 0.0030, 3: -0.0090})
+    off = offsets(asm.vehicle.bodies)
+    o = off[asm.vehicle.wheelsets[0]]
+    X[o + 2] -= 5e-5  # press the two-point wheelset in a little more: both slots loaded
+    cst = 2e3 * rng.standard_normal((len(asm.vehicle.wheelsets), 2, 6))
+    for dt in (0.0, 1e-4):
+        a_ker, aux = kernel_accelerations(asm, X, V, S_CENTRE, s_win0, cst, dt)
+        a_ref, loads = reference_accelerations(sc, asm, X, V, S_CENTRE, s_win0, cst, dt)
+        np.testing.assert_allclose(aux[:, :, AUX_N], loads, rtol=1e-9)
+        assert_close(a_ker, a_ref, asm, 1e-9)
+    assert aux[0, 0, AUX_N_FLANGE] > 0.0 and aux[0, 0, AUX_N] > aux[0, 0, AUX_N_FLANGE]
+    assert aux[3, 1, AUX_N_FLANGE] > 0.0 and aux[3, 1, AUX_ANGLE] > 0.5  # right flange
+
+
 @pytest.mark.slow
 def test_without_jit_the_kernel_gives_the_same_results():
     """The solver's fast unit tests (integrator, static equilibrium, this twin) pass with
@@ -417,7 +557,9 @@ def test_without_jit_the_kernel_gives_the_same_results():
     tests = ["tests/solver/test_integrator.py", "tests/solver/test_static.py",
              "tests/solver/test_forces_reference.py::test_linear_part_matches_dense_matrices",
              "tests/solver/test_forces_reference.py::test_full_forces_with_contact",
-             "tests/solver/test_forces_reference.py::test_flange_contact_and_creep_relaxation"]
+             "tests/solver/test_forces_reference.py::test_flange_contact_and_creep_relaxation",
+             "tests/solver/test_forces_reference.py::test_two_slot_profile_contact",
+             "tests/solver/test_forces_reference.py::test_two_slot_flange_and_two_point_contact"]
     out = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
                           *tests], cwd=root, env=env, capture_output=True, text=True,
                          timeout=300)

@@ -18,6 +18,7 @@ def test_klingel_wavelength():
         "paper-metro",
         speed_kmh=speed_kmh,
         duration_s=11.0,
+        contact__geometry="conical",
         # primary suspension free in x and y: the wheelsets are kinematically free to hunt
         **{"vehicle.primary.kx": 1.0e3, "vehicle.primary.ky": 0.0,
            "vehicle.primary.cx": 0.0, "vehicle.primary.cy": 0.0},

@@ -13,9 +13,9 @@ from flexride.solver.static import initial_window_start, static_equilibrium
 from flexride.solver.system import AUX_FZ, AUX_RAIL_Z
 
 
-@pytest.fixture(scope="module")
-def static_state():
-    sc = preset("paper-metro")
+@pytest.fixture(scope="module", params=["conical", "profiles"])
+def static_state(request):
+    sc = preset("paper-metro", contact__geometry=request.param)
     asm = assemble(sc)
     s0 = initial_window_start(asm)
     X0 = static_equilibrium(asm, 0.0, s0)

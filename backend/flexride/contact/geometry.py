@@ -102,6 +102,7 @@ class ContactTable:
     flange_stiffness: float
 
     def __post_init__(self) -> None:
+        """Check the table fields (finite, one length) and the grid."""
         shape = None
         for name in TABLE_FIELDS:
             arr = np.ascontiguousarray(getattr(self, name), dtype=np.float64)

@@ -98,7 +98,7 @@ def hertz_force(delta: float, G: float) -> float:
 
 
 def _cos_theta_of_ratio(k: float) -> float:
-    """cos θ = (B' − A')/(A' + B') of an ellipse with semi-axis ratio k = minor/major ≤ 1.
+    """Cos θ = (B' − A')/(A' + B') of an ellipse with semi-axis ratio k = minor/major ≤ 1.
 
     With e² = 1 − k², K and E the complete elliptic integrals of modulus e (parameter e²),
     Hertz's compatibility conditions give (B' − A')/(A' + B') = ((1 + k²)E − 2k²K)/(e²E).

@@ -105,6 +105,7 @@ class Placement:
     taping_line_offset: float = 0.070
 
     def __post_init__(self) -> None:
+        """Check and normalise the placement parameters."""
         object.__setattr__(self, "inclination", parse_inclination(self.inclination))
         object.__setattr__(self, "gauge", _positive("gauge (m)", self.gauge, 0.3, 3.0))
         object.__setattr__(self, "gauge_height",
@@ -175,7 +176,8 @@ class PlacedRail:
 
     def to_profile(self, eta: float, z: float) -> tuple[float, float]:
         """Profile coordinates (y, z) in m (un-rotated rail frame) of the side-frame point
-        (η, z) in m."""
+        (η, z) in m.
+        """
         yp, zp = eta - self.eta_shift, z - self.z_shift
         c, sn = math.cos(self.alpha), math.sin(self.alpha)
         return c * yp + sn * zp, -sn * yp + c * zp
@@ -183,7 +185,8 @@ class PlacedRail:
     def sample(self, h: float) -> SampledProfile:
         """The placed rail sampled on a uniform η grid of step ``h`` (m) whose points are
         multiples of ``h``; heights from the top of rail, slope angles in the side frame,
-        curvatures (rotation invariant)."""
+        curvatures (rotation invariant).
+        """
         lo, _ = self.curve.y_range(self.alpha)
         start = math.ceil((lo + self.eta_shift) / h - 1e-9) * h
         s = self.curve.sample(h, y0=start - self.eta_shift, alpha=self.alpha)

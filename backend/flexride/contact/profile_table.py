@@ -206,7 +206,8 @@ class ProfileContactTable:
 def _kernel_fields(geo: ContactGeometry, E: float, nu: float, normal: NormalLaw,
                    max_curvature_ratio: float) -> tuple[np.ndarray, int]:
     """Fill [2, 2, F, n] from a search result; returns the data and the number of clamped
-    curvature ratios."""
+    curvature ratios.
+    """
     n = geo.n
     data = np.empty((2, 2, len(POINT_FIELDS), n))
     rise = geo.rise()

@@ -84,6 +84,7 @@ class SearchSettings:
     smoothing_length: float = 0.0
 
     def __post_init__(self) -> None:
+        """Check the search range and step."""
         checks = (
             ("y_max (m)", self.y_max, 1e-4, 0.05),
             ("step (m)", self.step, 1e-6, 1e-3),
@@ -212,7 +213,8 @@ def _candidates(g, eta, angw, flange_angle, out):
     """Best candidate per branch from the local minima of g.
 
     out[slot] = (found, gap, k + t, eta) ; out[2, 0] = 1 when the overall minimum lies at the
-    edge of the overlap (the profiles do not cover the contact)."""
+    edge of the overlap (the profiles do not cover the contact).
+    """
     n = g.shape[0]
     for slot in range(2):
         out[slot, 0] = 0.0
@@ -427,7 +429,8 @@ class ContactGeometry:
     def k_wheel_rolling(self) -> np.ndarray:
         """Principal curvature of the wheel in the rolling direction [2, 2, n] in 1/m:
         cos(gamma)/r (Meusnier: the circumferential normal curvature of a surface of revolution
-        whose normal is tilted by the contact angle from the radius); the straight rail has 0."""
+        whose normal is tilted by the contact angle from the radius); the straight rail has 0.
+        """
         return np.cos(self.gamma) / self.r
 
     @property
@@ -444,7 +447,8 @@ class ContactGeometry:
 
     def rise(self) -> np.ndarray:
         """Vertical rise of each wheel at its nominal rolling circle [2, n] in m, relative to
-        Δy = 0: lift + sg·b0·roll − (the same at Δy = 0), with b0 the taping-line η."""
+        Δy = 0: lift + sg·b0·roll − (the same at Δy = 0), with b0 the taping-line η.
+        """
         b0 = self.placement.taping_line
         sg = np.array([[1.0], [-1.0]])
         z = self.lift + sg * b0 * self.roll[None, :]

@@ -12,9 +12,10 @@ import numpy as np
 
 from flexride.contact.geometry import ContactTable, conical_table
 from flexride.contact.hertz import hertz_constant
+from flexride.contact.profile_table import ProfileContactTable
 from flexride.errors import ScenarioError
-from flexride.scenario.scenario import Scenario
 from flexride.results import Channel
+from flexride.scenario.scenario import Scenario
 from flexride.solver import system as S
 from flexride.track.excitation import build_profile
 from flexride.track.line_geometry import GRAVITY, LineTable, build_line_table
@@ -51,11 +52,15 @@ class Assembly:
     output_rate: float
     static_dofs: np.ndarray
     meta: dict = field(default_factory=dict)
+    #: the two-slot table of real profiles (``contact.geometry: profiles``), else None;
+    #: ``contact`` is then its one-point table (rigid contact, jumping to the flange)
+    profiles: ProfileContactTable | None = None
 
 
 def output_rate_for(scenario: Scenario) -> float:
     """Output sample rate (Hz): the user's, else max(1 kHz, 20 samples per shortest excitation
-    period V/λ_min), rounded so that it divides the step rate 1/dt."""
+    period V/λ_min), rounded so that it divides the step rate 1/dt.
+    """
     step_rate = 1.0 / scenario.solver.dt
     wanted = scenario.output.rate_hz
     if wanted is None:
@@ -74,7 +79,8 @@ def output_rate_for(scenario: Scenario) -> float:
 def _irregularity(scenario: Scenario, length: float, sources: MeasuredSources
                   ) -> IrregularityProfile:
     """Sum of the excitations' profiles, each on its own grid (:func:`build_profile` of one
-    excitation, errors located at ``excitation[i]``); flat track without excitations."""
+    excitation, errors located at ``excitation[i]``); flat track without excitations.
+    """
     b = scenario.track.rail_centre_half_distance
     profiles = []
     for i, exc in enumerate(scenario.excitation):
@@ -105,7 +111,8 @@ def _flexible(kind: Literal["carbody", "frame"], scenario: Scenario, settings, n
 
 def vehicle_for(scenario: Scenario) -> VehicleModel:
     """The vehicle of ``scenario``: rigid bodies, or flexible car body and/or frames built from
-    their reduced finite-element models (cached by content hash in :mod:`flexride.fem`)."""
+    their reduced finite-element models (cached by content hash in :mod:`flexride.fem`).
+    """
     bm = scenario.bodies
     carbody = frames = None
     if bm.carbody.model == "flexible":
@@ -117,10 +124,17 @@ def vehicle_for(scenario: Scenario) -> VehicleModel:
     return build_vehicle(scenario.vehicle, scenario.output, carbody=carbody, frames=frames)
 
 
-def channel_layout(veh: VehicleModel) -> tuple[list[str], list[str], list[tuple[int, int, int]]]:
+def channel_layout(veh: VehicleModel, profiles: bool = False
+                   ) -> tuple[list[str], list[str], list[tuple[int, int, int]]]:
     """Names, units and kernel recipes ``(kind, a, b)`` of the recorded channels, in order:
     accelerations of every recorded point, wheel–rail forces and rail displacements of every
-    wheel, and the rigid coordinates of every body."""
+    wheel, and the rigid coordinates of every body.
+
+    With ``profiles`` (real profile contact) every wheel also records the normal force of its
+    flange contact point (``<wheelset>.<side>.force.flange``, N) and the track-frame contact
+    angle of its more loaded point (``<wheelset>.<side>.contact_angle.x``, rad, positive when the
+    normal force on the wheel points toward the track centre).
+    """
     bodies = veh.bodies
     off = np.concatenate([[0], np.cumsum([b.n_dof for b in bodies])[:-1]]).astype(np.int64)
     names: list[str] = []
@@ -145,6 +159,14 @@ def channel_layout(veh: VehicleModel) -> tuple[list[str], list[str], list[tuple[
                 names.append(Channel(wname, side, quantity, d).name)
                 units.append(u)
                 kinds.append((kind, w, sd))
+            if profiles:
+                for kind, quantity, d, u in (
+                    (S.CH_WHEEL_N_FLANGE, "force", "flange", "N"),
+                    (S.CH_WHEEL_ANGLE, "contact_angle", "x", "rad"),
+                ):
+                    names.append(Channel(wname, side, quantity, d).name)
+                    units.append(u)
+                    kinds.append((kind, w, sd))
     coord_channels = [
         ("disp", "x", 0, "m"),
         ("disp", "y", 1, "m"),
@@ -245,16 +267,37 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
     c = scenario.contact
     r0 = veh.wheel_radius
     b0 = veh.rolling_circle_half_distance
-    table = conical_table(
-        r0=r0,
-        conicity=c.conicity,
-        b0=b0,
-        flange_clearance=c.flange_clearance,
-        flange_stiffness=c.flange_stiffness,
-        rail_head_radius=c.rail_head_radius,
-        E=scenario.track.rail.youngs_modulus,
-        nu=c.poisson,
-    )
+    E_rail = scenario.track.rail.youngs_modulus
+    ptable: ProfileContactTable | None = None
+    if c.geometry == "profiles":
+        from flexride.contact.scenario_table import scenario_contact_table
+
+        try:
+            ptable = scenario_contact_table(c, r0, b0, E_rail, sources)
+        except ScenarioError as err:
+            raise err.located(("contact",)) from None
+        table = ptable.single_table()
+        p2, ct2 = ptable.as_arrays()
+        ct2 = np.ascontiguousarray(ct2)
+        b0 = ptable.b0
+        i_mid = round(-ptable.y0 / ptable.dy)
+        hertz_g = float(ct2[0, 0, S.PT_GH, i_mid])
+        contact_model = S.CONTACT_PROFILES
+    else:
+        table = conical_table(
+            r0=r0,
+            conicity=c.conicity,
+            b0=b0,
+            flange_clearance=c.flange_clearance,
+            flange_stiffness=c.flange_stiffness,
+            rail_head_radius=c.rail_head_radius,
+            E=E_rail,
+            nu=c.poisson,
+        )
+        p2 = np.array([0.0, 1.0])
+        ct2 = np.zeros((2, 2, S.N_PT, 2))
+        hertz_g = hertz_constant(r0, c.hertz_tread)
+        contact_model = S.CONTACT_CONICAL
     tparams, tdata = table.as_arrays()
     ct = np.ascontiguousarray(tdata.transpose(1, 0, 2))
 
@@ -272,7 +315,7 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
     rate = output_rate_for(scenario)
     ndec = round(1.0 / (sol.dt * rate))
 
-    names, units, kinds = channel_layout(veh)
+    names, units, kinds = channel_layout(veh, profiles=ptable is not None)
     ch = np.array(kinds, dtype=np.int64).reshape(-1, 3)
 
     # dof names and the subset solved in statics (vertical plane + rails + elastic modes)
@@ -309,14 +352,17 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         kr_d=rail.k_roll / rail.spacing,
         cr_d=rail.c_roll / rail.spacing,
         mu=c.friction,
-        g_shear=c.shear_modulus,
-        hertz_g=hertz_constant(r0, c.hertz_tread),
+        g_shear=c.shear_modulus_for(E_rail),
+        hertz_g=hertz_g,
         flange_clearance=c.flange_clearance,
-        flange_k=c.flange_stiffness,
+        flange_k=c.flange_stiffness if ptable is None else 0.0,
         runaway=sol.runaway_displacement_m,
         v_min=CREEP_MIN_SPEED,
         ct_y0=tparams[0],
         ct_dy=tparams[1],
+        ct2_y0=p2[0],
+        ct2_dy=p2[1],
+        contact_model=contact_model,
         irr_s0=irr.s0,
         irr_ds=irr.ds,
         ln_s0=line.s0,
@@ -363,6 +409,7 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         rail_kap=rail.wavenumbers(),
         rail_dst=np.ascontiguousarray(rail.sine_matrix()),
         ct=ct,
+        ct2=ct2,
         irr=np.ascontiguousarray(np.vstack([irr.z_left, irr.z_right, irr.y_left, irr.y_right])),
         line=line.as_array(),
         pt_body=pt_body,
@@ -385,4 +432,5 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         n_steps=n_steps,
         output_rate=rate,
         static_dofs=np.array(static, dtype=np.int64),
+        profiles=ptable,
     )

@@ -74,7 +74,8 @@ def estimate_run(scenario: Scenario) -> RunEstimate:
     steps = count_steps(scenario)
     ndec = max(1, round(1.0 / (scenario.solver.dt * output_rate_for(scenario))))
     samples = steps // ndec
-    names, _units, _kinds = channel_layout(build_vehicle(scenario.vehicle, scenario.output))
+    names, _units, _kinds = channel_layout(build_vehicle(scenario.vehicle, scenario.output),
+                                           profiles=scenario.contact.geometry == "profiles")
     return RunEstimate(steps=steps, output_points=count_output_points(scenario),
                        channels=len(names), samples=samples,
                        result_bytes=len(names) * samples * BYTES_PER_SAMPLE)

@@ -17,11 +17,13 @@ from flexride._numba_env import FASTMATH
 from flexride.contact.creep import creep_forces
 from flexride.contact.hertz import hertz_force
 from flexride.solver.system import (
+    AUX_ANGLE,
     AUX_DELTA,
     AUX_FX,
     AUX_FY,
     AUX_FZ,
     AUX_N,
+    AUX_N_FLANGE,
     AUX_RAIL_Y,
     AUX_RAIL_Z,
     BL_DROLL,
@@ -44,6 +46,7 @@ from flexride.solver.system import (
     LN_HINT,
     LN_KAPPA,
     LN_ROLL,
+    PT_GH,
 )
 
 _FM = set(FASTMATH)
@@ -61,6 +64,43 @@ def table_value(row, y0, dy, y):
     i = int(u)
     f = u - i
     return row[i] + f * (row[i + 1] - row[i])
+
+
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def _lerp_at(t, side, slot, fld, i, f):
+    """Field ``fld`` of slot ``slot`` on ``side`` of a two-slot table, interpolated between grid
+    points ``i`` and ``i + 1`` at fraction ``f``.
+    """
+    a = t[side, slot, fld, i]
+    return a + f * (t[side, slot, fld, i + 1] - a)
+
+
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def _rail_at(sn, X, V, oz, oy, ot, nm):
+    """Rail displacements (z, y, θ) and velocities (z, y, θ) at a wheel in one pass over the
+    modes (``sn`` the mode shapes there).
+    """
+    xz = X[oz:oz + nm]
+    xy = X[oy:oy + nm]
+    xt = X[ot:ot + nm]
+    vz = V[oz:oz + nm]
+    vy = V[oy:oy + nm]
+    vt = V[ot:ot + nm]
+    a0 = 0.0
+    a1 = 0.0
+    a2 = 0.0
+    a3 = 0.0
+    a4 = 0.0
+    a5 = 0.0
+    for k in range(nm):
+        sk = sn[k]
+        a0 += sk * xz[k]
+        a1 += sk * xy[k]
+        a2 += sk * xt[k]
+        a3 += sk * vz[k]
+        a4 += sk * vy[k]
+        a5 += sk * vt[k]
+    return a0, a1, a2, a3, a4, a5
 
 
 @numba.njit(cache=True, fastmath=_FM, inline="always")
@@ -116,7 +156,8 @@ def frame_specific_force(sys, s):
 @numba.njit(cache=True, fastmath=_FM)
 def _marker_kinematics3(phi, p, nd, r0, X, V, o):
     """Rows ``r0 … r0+2`` of a marker matrix (offset ``p`` in ``phi``, ``nd`` columns) applied to
-    the body's coordinates and velocities (offset ``o``) in one pass: (u0, u1, u2, v0, v1, v2)."""
+    the body's coordinates and velocities (offset ``o``) in one pass: (u0, u1, u2, v0, v1, v2).
+    """
     b0 = p + r0 * nd
     row0 = phi[b0:b0 + nd]
     row1 = phi[b0 + nd:b0 + 2 * nd]
@@ -145,7 +186,8 @@ def _marker_kinematics3(phi, p, nd, r0, X, V, o):
 @numba.njit(cache=True, fastmath=_FM)
 def _marker_force3(phi, p, nd, r0, F, o, f0, f1, f2):
     """Add the generalised force of marker forces (f0, f1, f2) on rows ``r0 … r0+2``:
-    F[o:o+nd] += Φ[r0:r0+3]ᵀ f, in one pass."""
+    F[o:o+nd] += Φ[r0:r0+3]ᵀ f, in one pass.
+    """
     b0 = p + r0 * nd
     row0 = phi[b0:b0 + nd]
     row1 = phi[b0 + nd:b0 + 2 * nd]
@@ -261,7 +303,8 @@ def vehicle_forces(sys, X, V, s, F):
 @numba.njit(cache=True, fastmath=_FM)
 def rail_forces(sys, X, V, F):
     """Beam and fastener forces of both rails, per mode (diagonal thanks to discrete
-    orthogonality of sine modes at evenly spaced fasteners)."""
+    orthogonality of sine modes at evenly spaced fasteners).
+    """
     par = sys.par
     nm = par.n_rail_modes
     nv = par.n_veh
@@ -308,6 +351,9 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
     irr = sys.irr
     is0, ids = par.irr_s0, par.irr_ds
     scale = 2.0 / par.win_len
+    two_slot = par.contact_model == 1
+    if two_slot and cst.shape[2] < 6:
+        raise ValueError("the creep state of two-slot contact needs 6 values per wheel")
     for w in range(nw):
         b = sys.ws_body[w]
         o = sys.body_off[b]
@@ -335,16 +381,24 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
             oz = nv + (3 * side) * nm
             oy = oz + nm
             ot = oy + nm
-            zr = _dot(sn, X[oz:oz + nm])
-            yr = _dot(sn, X[oy:oy + nm])
-            tr = _dot(sn, X[ot:ot + nm])
-            vyr = _dot(sn, V[oy:oy + nm])
-            vtr = _dot(sn, V[ot:ot + nm])
+            if two_slot:
+                zr, yr, tr, vzr, vyr, vtr = _rail_at(sn, X, V, oz, oy, ot, nm)
+            else:
+                zr = _dot(sn, X[oz:oz + nm])
+                yr = _dot(sn, X[oy:oy + nm])
+                tr = _dot(sn, X[ot:ot + nm])
+                vyr = _dot(sn, V[oy:oy + nm])
+                vtr = _dot(sn, V[ot:ot + nm])
+                vzr = 0.0
             z_irr = _lerp_or_zero(irr[side], is0, ids, sw)
             y_irr = _lerp_or_zero(irr[2 + side], is0, ids, sw)
             y_head = yr - hh * tr + y_irr
             vy_head = vyr - hh * vtr
             dyrel = yw - y_head
+            if two_slot:
+                _profile_wheel(sys, X, V, F, aux, sn, cst, relax_dt, w, side, o, oz, oy, ot,
+                               zr, z_irr, yr - hh * tr, vy_head, vzr, dyrel)
+                continue
             r_c = table_value(ct[side, CT_R], y0, dy, dyrel)
             gam = table_value(ct[side, CT_GAMMA], y0, dy, dyrel)
             dzc = table_value(ct[side, CT_DZ], y0, dy, dyrel)
@@ -422,6 +476,148 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
             aux[w, side, AUX_RAIL_Z] = zr
             aux[w, side, AUX_RAIL_Y] = yr - hh * tr
             aux[w, side, AUX_DELTA] = delta
+            aux[w, side, AUX_N_FLANGE] = 0.0
+            aux[w, side, AUX_ANGLE] = ge if N > 0.0 else 0.0
+
+
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def _profile_wheel(sys, X, V, F, aux, sn, cst, relax_dt, w, side, o, oz, oy, ot, z_rail,
+                   z_irr, y_rail, vy_head, vzr, dyrel):
+    """Two-slot contact of one wheel on real profiles (``contact_model`` 1).
+
+    Both slots of the table (tread and flange branch) are evaluated at the wheelset's lateral
+    displacement ``dyrel`` relative to the rail head, each with its own contact angle (γ + sg·φ
+    in the track frame), rolling radius, contact position, Hertz constant and creep
+    coefficients: vertical compression δ_z = z_top − (z_w + sg·b0·φ) + dz, normal approach
+    δ_n = δ_z·cos(γ + sg·φ), N = (δ_n/G)^(3/2); a slot with δ_n ≤ 0 carries nothing and its
+    creep state is reset. Creepages are the slip velocity of the wheel's material point against
+    the rail's, projected on the contact frame (rolling direction x, lateral tangent
+    t = (0, cos γ_e, sg·sin γ_e), normal), referred to max(V, v_min); spin is the wheel's
+    angular velocity along the normal over V. The forces of both slots are summed on the
+    wheelset and their resultant loads the rail at the running surface.
+    """
+    par = sys.par
+    nm = par.n_rail_modes
+    speed = par.speed
+    vref = max(speed, par.v_min)
+    b0, r0 = par.b0, par.r0
+    hh = par.h_head
+    gsh, mu = par.g_shear, par.mu
+    ct2 = sys.ct2
+    sg = 1.0 if side == 0 else -1.0
+    zw, rw, psw = X[o + 2], X[o + 3], X[o + 5]
+    vxw, vyw, vzw, vrw, vbw, vpsw = V[o + 0], V[o + 1], V[o + 2], V[o + 3], V[o + 4], V[o + 5]
+    n = ct2.shape[3]
+    u = (dyrel - par.ct2_y0) / par.ct2_dy
+    if u <= 0.0:
+        i = 0
+        f = 0.0
+    elif u >= n - 1:
+        i = n - 2
+        f = 1.0
+    else:
+        i = int(u)
+        f = u - i
+    z_rel = (z_rail + z_irr) - (zw + sg * b0 * rw)
+    fwx = 0.0
+    fwy = 0.0
+    fwz = 0.0
+    mx = 0.0
+    my = 0.0
+    mzz = 0.0
+    n_sum = 0.0
+    n_max = 0.0
+    n_fl = 0.0
+    angle = 0.0
+    d_max = -1.0
+    for slot in range(2):
+        dlz = z_rel + _lerp_at(ct2, side, slot, CT_DZ, i, f)
+        if dlz > d_max:
+            d_max = dlz
+        c0 = 3 * slot
+        if not dlz > 0.0:
+            cst[w, side, c0] = 0.0
+            cst[w, side, c0 + 1] = 0.0
+            cst[w, side, c0 + 2] = 0.0
+            continue
+        gam = _lerp_at(ct2, side, slot, CT_GAMMA, i, f)
+        ge = gam + sg * rw
+        cg = math.cos(ge)
+        sgm = math.sin(ge)
+        dn = dlz * cg
+        if not dn > 0.0:
+            cst[w, side, c0] = 0.0
+            cst[w, side, c0 + 1] = 0.0
+            cst[w, side, c0 + 2] = 0.0
+            continue
+        N = (dn / _lerp_at(ct2, side, slot, PT_GH, i, f)) ** 1.5
+        r_c = _lerp_at(ct2, side, slot, CT_R, i, f)
+        ry = sg * b0 + _lerp_at(ct2, side, slot, CT_YC, i, f)
+        # slip velocity of the wheel's material point against the rail's (track frame)
+        sx = speed * (1.0 - r_c / r0) + vxw - ry * vpsw - r_c * vbw
+        sy = vyw + r_c * vrw - vy_head - speed * psw
+        sz = vzw + ry * vrw - vzr
+        xi_x = sx / vref
+        xi_y = (sy * cg + sg * sgm * sz) / vref
+        xi_sp = vpsw * cg / vref - sg * math.sin(gam) / r0
+        ca = _lerp_at(ct2, side, slot, CT_CA, i, f)
+        fx, fy, mz = creep_forces(
+            xi_x, xi_y, xi_sp, N, ca,
+            _lerp_at(ct2, side, slot, CT_CB, i, f),
+            _lerp_at(ct2, side, slot, CT_C11, i, f),
+            _lerp_at(ct2, side, slot, CT_C22, i, f),
+            _lerp_at(ct2, side, slot, CT_C23, i, f),
+            _lerp_at(ct2, side, slot, CT_C33, i, f),
+            gsh, mu,
+        )
+        if relax_dt > 0.0:
+            tau = ca * N ** (1.0 / 3.0) / vref
+            e = math.exp(-relax_dt / tau)
+            fx = fx + (cst[w, side, c0] - fx) * e
+            fy = fy + (cst[w, side, c0 + 1] - fy) * e
+            mz = mz + (cst[w, side, c0 + 2] - mz) * e
+        cst[w, side, c0] = fx
+        cst[w, side, c0 + 1] = fy
+        cst[w, side, c0 + 2] = mz
+        # force on the wheel in the track frame (normal n, lateral tangent t)
+        qy = fy * cg - sg * N * sgm
+        qz = sg * fy * sgm + N * cg
+        fwx += fx
+        fwy += qy
+        fwz += qz
+        # moments about the wheelset centre: contact point (0, ry, −r_c)
+        mx += ry * qz + r_c * qy
+        my += -r_c * fx - sg * sgm * mz
+        mzz += -ry * fx + mz * cg
+        n_sum += N
+        if slot == 1:
+            n_fl = N
+        if N > n_max:
+            n_max = N
+            angle = ge
+    F[o + 0] += fwx
+    F[o + 1] += fwy
+    F[o + 2] += fwz
+    F[o + 3] += mx
+    F[o + 4] += my
+    F[o + 5] += mzz
+    # reaction on the rail at the running surface: P, Q, torque about the shear centre
+    scale = 2.0 / par.win_len
+    pr = -fwz
+    qr = -fwy
+    mr = -hh * qr
+    _axpy(scale * pr, sn, F[oz:oz + nm])
+    _axpy(scale * qr, sn, F[oy:oy + nm])
+    _axpy(scale * mr, sn, F[ot:ot + nm])
+    aux[w, side, AUX_FZ] = fwz
+    aux[w, side, AUX_FY] = fwy
+    aux[w, side, AUX_FX] = fwx
+    aux[w, side, AUX_N] = n_sum
+    aux[w, side, AUX_RAIL_Z] = z_rail
+    aux[w, side, AUX_RAIL_Y] = y_rail
+    aux[w, side, AUX_DELTA] = d_max
+    aux[w, side, AUX_N_FLANGE] = n_fl
+    aux[w, side, AUX_ANGLE] = angle
 
 
 @numba.njit(cache=True, fastmath=_FM)
@@ -429,7 +625,8 @@ def evaluate(sys, X, V, s, s_win0, F, A, aux, sn, cst, relax_dt):
     """Generalised forces ``F`` and accelerations ``A = F / m`` at coordinates ``X``,
     velocities ``V``, vehicle-centre position ``s`` (m) and rail-window start ``s_win0`` (m).
 
-    ``cst``/``relax_dt``: creep-force state and relaxation step, see :func:`contact_forces`."""
+    ``cst``/``relax_dt``: creep-force state and relaxation step, see :func:`contact_forces`.
+    """
     n = F.shape[0]
     for i in range(n):
         F[i] = 0.0

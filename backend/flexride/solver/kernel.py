@@ -18,9 +18,11 @@ import numba
 from flexride._numba_env import FASTMATH
 from flexride.solver.forces import evaluate, frame_specific_force
 from flexride.solver.system import (
+    AUX_ANGLE,
     AUX_FY,
     AUX_FZ,
     AUX_N,
+    AUX_N_FLANGE,
     AUX_RAIL_Y,
     AUX_RAIL_Z,
     CH_COORD,
@@ -28,9 +30,11 @@ from flexride.solver.system import (
     CH_POINT_ACC_Z,
     CH_RAIL_Y,
     CH_RAIL_Z,
+    CH_WHEEL_ANGLE,
     CH_WHEEL_FY,
     CH_WHEEL_FZ,
     CH_WHEEL_N,
+    CH_WHEEL_N_FLANGE,
     T_FIRST,
     T_NREC,
     T_STEP,
@@ -143,6 +147,10 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
             val = facc[a, bb, 1] / ndec
         elif kind == CH_WHEEL_N:
             val = facc[a, bb, 2] / ndec
+        elif kind == CH_WHEEL_N_FLANGE:
+            val = facc[a, bb, 3] / ndec
+        elif kind == CH_WHEEL_ANGLE:
+            val = facc[a, bb, 4] / ndec
         elif kind == CH_RAIL_Z:
             val = aux[a, bb, AUX_RAIL_Z]
         elif kind == CH_RAIL_Y:
@@ -161,6 +169,8 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
             facc[w, sd, 0] = 0.0
             facc[w, sd, 1] = 0.0
             facc[w, sd, 2] = 0.0
+            facc[w, sd, 3] = 0.0
+            facc[w, sd, 4] = 0.0
     return True
 
 
@@ -247,6 +257,8 @@ def run_chunk(
                 facc[w, sd, 0] += aux[w, sd, AUX_FZ]
                 facc[w, sd, 1] += aux[w, sd, AUX_FY]
                 facc[w, sd, 2] += aux[w, sd, AUX_N]
+                facc[w, sd, 3] += aux[w, sd, AUX_N_FLANGE]
+                facc[w, sd, 4] += aux[w, sd, AUX_ANGLE]
         step = tstate[T_STEP] + 1.0
         tstate[T_STEP] = step
         if int(step) % ndec == 0:

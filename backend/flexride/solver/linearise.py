@@ -1,5 +1,6 @@
 """Finite-difference Jacobians of the accelerations (numba): used for the static equilibrium
-and for the linearised stability estimate."""
+and for the linearised stability estimate.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import numba
 import numpy as np
 
 from flexride.solver.forces import evaluate
-from flexride.solver.system import N_AUX
+from flexride.solver.system import N_AUX, N_CST
 
 
 @numba.njit(cache=True)
@@ -40,7 +41,8 @@ def workspace(sys) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.n
     n = sys.minv.shape[0]
     nw = int(sys.ws_body.shape[0])
     nm = int(sys.rail_kap.shape[0])
-    return (np.zeros(n), np.zeros(n), np.zeros((nw, 2, N_AUX)), np.zeros(nm), np.zeros((nw, 2, 3)))
+    return (np.zeros(n), np.zeros(n), np.zeros((nw, 2, N_AUX)), np.zeros(nm),
+            np.zeros((nw, 2, N_CST)))
 
 
 def accelerations(sys, X: np.ndarray, V: np.ndarray, s: float, s_win0: float) -> np.ndarray:

@@ -1,5 +1,6 @@
 """``simulate(scenario) -> Results``: assemble, find static equilibrium, check the time step,
-integrate in chunks (progress and cancellation between chunks), collect the channels."""
+integrate in chunks (progress and cancellation between chunks), collect the channels.
+"""
 
 from __future__ import annotations
 
@@ -9,8 +10,8 @@ from collections.abc import Callable
 import numpy as np
 
 from flexride.errors import SimulationCancelled, SimulationError
-from flexride.scenario.scenario import Scenario
 from flexride.results import Results
+from flexride.scenario.scenario import Scenario
 from flexride.solver import system as S
 from flexride.solver.assemble import Assembly, assemble
 from flexride.solver.kernel import (
@@ -117,7 +118,8 @@ def convected_rail_velocity(asm: Assembly, X0: np.ndarray) -> np.ndarray:
     """Initial velocities for a vehicle already moving at the running speed: the static
     deflection basin of each rail travels with the wheels, w(x − Vt), so ẇ = −V·∂w/∂x.
 
-    Projected on the rail modes through the fastener values (discrete sine transform)."""
+    Projected on the rail modes through the fastener values (discrete sine transform).
+    """
     sysarr = asm.sys
     V0 = np.zeros_like(X0)
     nv = sysarr.par.n_veh
@@ -167,8 +169,8 @@ def integrate(
     npnt = sysarr.pt_body.shape[0]
     aux = np.zeros((nw, 2, S.N_AUX))
     sn = np.zeros(nm)
-    facc = np.zeros((nw, 2, 3))
-    cst = np.zeros((nw, 2, 3))
+    facc = np.zeros((nw, 2, S.N_FACC))
+    cst = np.zeros((nw, 2, S.N_CST))
     ptv = np.zeros((npnt, 2))
     pscr = np.zeros((npnt, 2))
     u = np.zeros(nm)

@@ -1,5 +1,6 @@
 """Static equilibrium of the vehicle on the track (Newton's method with a finite-difference
-Jacobian), so that a run starts without a settling transient."""
+Jacobian), so that a run starts without a settling transient.
+"""
 
 from __future__ import annotations
 
@@ -12,7 +13,8 @@ from flexride.solver.linearise import accelerations, jacobian
 
 def initial_window_start(asm: Assembly, s: float = 0.0) -> float:
     """Rail-window start (m) that puts the rearmost wheelset ``margin`` from the window's rear
-    end, aligned with the fastener grid."""
+    end, aligned with the fastener grid.
+    """
     veh = asm.vehicle
     x_rear = min(veh.bodies[i].x_ref for i in veh.wheelsets)
     margin = asm.sys.par.margin

@@ -46,6 +46,8 @@ class Scalars(NamedTuple):
     v_min: float  # creepages referred to max(V, v_min) (m/s)
     ct_y0: float  # first Δy of the contact table (m)
     ct_dy: float  # step of the contact table (m)
+    ct2_y0: float  # first Δy of the two-slot table (m)
+    ct2_dy: float  # step of the two-slot table (m)
     irr_s0: float  # first grid point of the irregularity table (m)
     irr_ds: float  # step of the irregularity table (m)
     ln_s0: float  # first grid point of the line table (m)
@@ -54,6 +56,7 @@ class Scalars(NamedTuple):
     margin: float  # rail kept beyond the outermost wheelsets (m)
     k_traction: float  # traction link stiffness (N/m)
     c_traction: float  # traction link damping (N·s/m)
+    contact_model: int  # 0 conical tread (one point + flange spring), 1 profiles (two slots)
     n_veh: int  # vehicle coordinates
     n_rail_modes: int  # modes per rail and direction
     n_bodies: int  # bodies
@@ -94,6 +97,13 @@ def make_scalars(**values: float) -> Scalars:
 # --- contact table fields (ct[side, field, i]) -------------------------------------------
 CT_R, CT_GAMMA, CT_DZ, CT_YC, CT_CA, CT_CB, CT_C11, CT_C22, CT_C23, CT_C33 = range(10)
 
+# --- two-slot profile contact table fields (ct2[side, slot, field, i]) -----------------------
+# the first ten are the CT_* fields above, then: vertical gap at the rigid configuration, Hertz
+# normal constant G (m/N^(2/3)), contact position on the rail (lateral, height)
+PT_GAP, PT_GH, PT_YR, PT_ZR = range(10, 14)
+N_PT = 14
+CONTACT_CONICAL, CONTACT_PROFILES = 0, 1
+
 # --- line table rows -------------------------------------------------------------------------
 LN_KAPPA, LN_ROLL, LN_HEADING, LN_HINT, LN_DKAPPA = range(5)
 
@@ -102,12 +112,20 @@ BL_HEADING, BL_HINT, BL_ROLL, BL_KAPPA, BL_DROLL = range(5)
 N_BL = 5
 
 # --- per-wheel auxiliary outputs (aux[wheelset, side, field]) ------------------------------
-AUX_FZ, AUX_FY, AUX_N, AUX_RAIL_Z, AUX_RAIL_Y, AUX_DELTA, AUX_FX = range(7)
-N_AUX = 7
+# AUX_N is the sum of the normal forces of the wheel's contact points; AUX_N_FLANGE the normal
+# force of the flange slot (profiles; 0 for the conical tread); AUX_ANGLE the track-frame contact
+# angle (rad) of the more loaded point (0 without contact)
+AUX_FZ, AUX_FY, AUX_N, AUX_RAIL_Z, AUX_RAIL_Y, AUX_DELTA, AUX_FX, AUX_N_FLANGE, AUX_ANGLE = range(9)
+N_AUX = 9
+#: per-wheel accumulated outputs (facc[wheelset, side, k]): Fz, Fy, N, N_flange, angle
+N_FACC = 5
+#: creep-force state per wheel (cst[wheelset, side, 3·slot + k]): (Fx, Fy, Mz) of each slot
+N_CST = 6
 
 # --- channel kinds ---------------------------------------------------------------------------
 CH_POINT_ACC_Y, CH_POINT_ACC_Z, CH_WHEEL_FZ, CH_WHEEL_FY, CH_RAIL_Z, CH_RAIL_Y, CH_COORD = range(7)
 CH_WHEEL_N = 7
+CH_WHEEL_N_FLANGE, CH_WHEEL_ANGLE = 8, 9
 
 # --- state scalars (tstate) ------------------------------------------------------------------
 T_TIME, T_WIN_S0, T_STEP, T_NREC, T_FIRST = range(5)
@@ -142,7 +160,8 @@ class SystemArrays(NamedTuple):
     rail_ktb: np.ndarray  # float64[nm] G·J·κ²
     rail_kap: np.ndarray  # float64[nm] κ_k
     rail_dst: np.ndarray  # float64[nm, nm] sin(kπj/N)
-    ct: np.ndarray  # float64[2, 10, n_ct] contact geometry table
+    ct: np.ndarray  # float64[2, 10, n_ct] contact geometry table (one point per wheel)
+    ct2: np.ndarray  # float64[2, 2, N_PT, n_ct2] two-slot profile table (contact_model 1)
     irr: np.ndarray  # float64[4, n_irr] rail irregularities z_L, z_R, y_L, y_R
     line: np.ndarray  # float64[5, n_line] line geometry
     pt_body: np.ndarray  # int64[np] body of each recorded point

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from flexride.contact.scenario_table import load_profile
 from flexride.errors import ErrorItem, ScenarioError
 from flexride.scenario.excitation import MeasuredIrregularity
 from flexride.scenario.scenario import Scenario, located_error
@@ -71,6 +72,20 @@ def check_measured(scenario: Scenario, sources: MeasuredSources) -> None:
             load_measured(exc, sources)
         except ScenarioError as err:
             items.extend(ErrorItem(("excitation", i, *it.loc), it.msg) for it in err.items)
+    _refuse(items)
+
+
+def check_profiles(scenario: Scenario, sources: MeasuredSources) -> None:
+    """Refuse profile file paths and load uploaded profiles from ``sources`` (checked)."""
+    c = scenario.contact
+    if c.geometry != "profiles":
+        return
+    items: list[ErrorItem] = []
+    for name, src in (("wheel", c.wheel), ("rail", c.rail)):
+        try:
+            load_profile(src, name, sources)
+        except ScenarioError as err:
+            items.extend(ErrorItem(("contact", name, *it.loc), it.msg) for it in err.items)
     _refuse(items)
 
 
@@ -147,6 +162,7 @@ def admit(scenario: Scenario, limits: Limits, sources: MeasuredSources) -> RunEs
         located at the field.
     """
     check_measured(scenario, sources)
+    check_profiles(scenario, sources)
     est = check_run_size(scenario, limits)
     check_bodies(scenario, limits)
     return est

@@ -91,6 +91,7 @@ class Profile:
     lines: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
+        """Check the points (finite, enough, ordered) and the kind."""
         name = self.name
         if self.kind not in ("wheel", "rail"):
             raise ScenarioError(

@@ -1,0 +1,71 @@
+"""Bodies of the FE mesh and mode-shape routes."""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from pydantic import (
+    BaseModel,
+    Field,
+)
+
+# -- FE meshes and mode shapes ---------------------------------------------------------------
+
+
+class FEMode(BaseModel):
+    """One elastic mode shape of an FE export."""
+
+    index: int = Field(description="Mode number (1 = lowest elastic mode)")
+    frequency_hz: float = Field(description="Natural frequency (Hz)")
+    classification: str = Field(description="Kind of mode (bending, torsion...) or empty")
+    scale_m: float = Field(description="Largest nodal translation of the mass-normalised "
+                           "shape (m); the displacements are divided by it")
+    displacements: list[list[float]] = Field(
+        description="Per node [dx, dy, dz], scaled to a largest translation of 1")
+
+
+class FEModelInfo(BaseModel):
+    """What an FE export was built from."""
+
+    kind: Literal["carbody", "frame"]
+    reduction: str
+    cutoff_hz: float = Field(description="Highest elastic mode frequency kept (Hz)")
+    element_size_m: float = Field(description="Car-body shell element size (m)")
+    max_modes: int = Field(description="Mode shapes exported at most")
+    key: str = Field(description="Content key of the export")
+    n_nodes: int
+    n_elastic_modes: int = Field(description="Elastic modes retained below the cut-off")
+    frequencies_hz: list[float] = Field(description="Frequencies of all retained modes (Hz)")
+    from_cache: bool = Field(description="The reduced body came from the FE cache")
+    build_seconds: float = Field(description="Time to build or load the body (s)")
+
+
+class FEExport(BaseModel):
+    """FE mesh and mode shapes (the JSON of ``flexride fe export``, plus ``model``)."""
+
+    units: dict[str, str]
+    nodes: list[list[float]] = Field(description="Node coordinates [x, y, z] (m): x from the "
+                                     "body centre forward, y left, z above top of rail")
+    quads: list[list[int]] = Field(description="Shell elements (four node indices)")
+    beams: list[list[int]] = Field(description="Beam elements (two node indices)")
+    named_nodes: dict[str, int] = Field(description="Attachment and output nodes by name")
+    regions: dict[str, Any] | None = Field(None, description="Region names and each node's")
+    modes: list[FEMode]
+    model: FEModelInfo
+
+
+class FEBuildStatus(BaseModel):
+    """An FE export that is not ready yet (202)."""
+
+    status: Literal["queued", "building"] = Field(
+        description="queued: the build job waits for a worker; building: it runs")
+    key: str = Field(description="Content key of the export")
+    parameters: dict[str, Any] = Field(description="kind, reduction, cutoff_hz, "
+                                       "element_size_m, max_modes")
+    job_id: str | None = Field(None, description="The build job (kind fe_export): GET "
+                               "/jobs/{id} follows it, POST /jobs/{id}/cancel cancels it")
+    progress: float = Field(0.0, description="Fraction of the build done (0–1)")
+    elapsed_s: float = Field(description="Seconds since the build was requested")
+    retry_after_s: int = Field(description="Ask again after this many seconds "
+                               "(also the Retry-After header)")
+    message: str

@@ -1,0 +1,83 @@
+"""Bodies of presets, health, version and uploads."""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Any, Literal
+
+from pydantic import (
+    BaseModel,
+    Field,
+)
+
+# -- presets, health, version -----------------------------------------------------------------
+
+
+class PresetOut(BaseModel):
+    """A named scenario."""
+
+    name: str
+    description: str
+    speed_kmh: float | None = None
+
+
+class ComponentHealth(BaseModel):
+    """Health of one component."""
+
+    ok: bool
+    detail: str = ""
+    data: dict[str, Any] = Field(default_factory=dict)
+
+
+class WorkerOut(BaseModel):
+    """A worker process seen recently."""
+
+    name: str
+    kind: str
+    hostname: str
+    pid: int
+    started_at: datetime
+    last_seen: datetime
+    alive: bool
+    current_job: str | None
+
+
+class HealthOut(BaseModel):
+    """Health of the API, the database, the broker and the workers."""
+
+    status: Literal["ok", "degraded", "down"]
+    version: str
+    runner: str
+    api: ComponentHealth
+    database: ComponentHealth
+    storage: ComponentHealth | None = Field(
+        None, description="Whether the results and upload directories and the database take "
+        "writes (status degraded when not)")
+    broker: ComponentHealth | None = None
+    workers: list[WorkerOut]
+    jobs: dict[str, int]
+
+
+class VersionOut(BaseModel):
+    """Versions of flexride and the main libraries."""
+
+    flexride: str
+    api: str
+    python: str
+    libraries: dict[str, str]
+    runner: str
+
+
+class UploadOut(BaseModel):
+    """A stored upload of measured irregularities (refer to it as
+    ``{"kind": "measured", "upload": id}`` in a scenario).
+    """
+
+    id: str = Field(description="SHA-256 of the content (64 hexadecimal digits)")
+    bytes: int = Field(description="Size of the content (bytes)")
+    rows: int = Field(description="Measurement points")
+    columns: list[str] = Field(description="Irregularity columns found (m)")
+    distance_start_m: float = Field(description="Start of the measured stretch (m)")
+    distance_end_m: float = Field(description="End of the measured stretch (m)")
+    median_spacing_m: float = Field(description="Median distance between points (m)")
+    links: dict[str, str] = Field(description="URLs of the upload's resources")

@@ -1,0 +1,199 @@
+"""Bodies of the study routes: requests, jobs, tables."""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Any, Literal
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    model_validator,
+)
+
+from flexride.api.schemas.common import (
+    _NAME_PATTERN,
+    BodyModelName,
+    JobStatus,
+    _Strict,
+)
+
+# -- studies ---------------------------------------------------------------------------------
+
+
+class ScenarioSource(_Strict):
+    """The base scenario of a study: a full scenario or a preset, with overrides."""
+
+    scenario: dict[str, Any] | None = None
+    preset: str | None = Field(None, max_length=80)
+    overrides: dict[str, Any] = Field(default_factory=dict, max_length=200)
+
+    @model_validator(mode="after")
+    def _one_source(self) -> ScenarioSource:
+        if (self.scenario is None) == (self.preset is None):
+            raise ValueError("give either 'scenario' or 'preset' (not both)")
+        return self
+
+
+class Condition(_Strict):
+    """A named line/excitation condition: dotted-path values set together."""
+
+    name: str = Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.+-]{0,39}$")
+    set: dict[str, Any] = Field(default_factory=dict, max_length=50,
+                                description="Dotted path → value")
+
+
+class ParameterAxis(_Strict):
+    """Any scenario parameter varied by its dotted path."""
+
+    path: str = Field(min_length=1, max_length=200, description="e.g. vehicle.carbody.mass")
+    values: list[Any] = Field(min_length=1, max_length=100)
+
+
+class StudyCreate(_Strict):
+    """A study: a base scenario and the axes to vary; the job matrix is their product.
+
+    Give ``preset`` (a study preset, GET /study-presets) or ``base``; axes given here replace
+    the preset's. ``overrides`` apply to every job, last (e.g. a shorter ``duration_s``).
+    """
+
+    # No null values in examples (see JobCreate); every example is submitted by
+    # tests/api/test_conformance.py.
+    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
+        {"name": "speeds",
+         "base": {"scenario": {"preset": "paper-random-straight-80", "duration_s": 6.0}},
+         "speeds_kmh": [60, 80]},
+        {"preset": "paper-table3", "overrides": {"distance_m": 150.0}},
+    ]})
+
+    name: str | None = Field(None, pattern=_NAME_PATTERN)
+    description: str = Field("", max_length=4000)
+    preset: str | None = Field(None, max_length=80, description="Study preset name")
+    base: ScenarioSource | None = None
+    speeds_kmh: list[float] | None = Field(None, min_length=1, max_length=100)
+    conditions: list[str | Condition] | None = Field(
+        None, min_length=1, max_length=100,
+        description="Paper conditions by name (random-straight, random-curve, corrugation, "
+        "settlement) or custom conditions",
+    )
+    body_models: list[BodyModelName] | None = Field(
+        None, min_length=1, max_length=2,
+        description="Car body and frames rigid and/or flexible",
+    )
+    parameters: list[ParameterAxis] | None = Field(None, max_length=10)
+    overrides: dict[str, Any] = Field(default_factory=dict, max_length=200)
+    reuse: bool = True
+
+    @model_validator(mode="after")
+    def _base_or_preset(self) -> StudyCreate:
+        if self.preset is None and self.base is None:
+            raise ValueError("give a study 'preset' or a 'base' scenario")
+        return self
+
+
+class StudyJobOut(BaseModel):
+    """A job of a study: its place in the matrix and its state."""
+
+    id: str
+    index: int | None
+    name: str
+    axes: dict[str, Any]
+    status: JobStatus
+    progress: float
+    speed_kmh: float | None
+    error: str | None = None
+    reused_from: str | None = None
+
+
+class LinearFitOut(BaseModel):
+    """Least-squares line y = slope·x + intercept with R²."""
+
+    slope: float | None
+    intercept: float | None
+    r_squared: float | None
+    n: int
+    stderr_slope: float | None = None
+    stderr_intercept: float | None = None
+    x_unit: str = "km/h"
+    y_unit: str = ""
+
+
+class SpeedSeries(BaseModel):
+    """A quantity against speed for one group (other axes fixed), point and direction."""
+
+    group: dict[str, Any]
+    point: str
+    direction: str
+    quantity: str
+    unit: str
+    speed_kmh: list[float]
+    value: list[float | None]
+    job_ids: list[str]
+    fit: LinearFitOut | None = None
+
+
+class FlexRigidRow(BaseModel):
+    """Flexible against rigid model for one case, point, direction and quantity."""
+
+    group: dict[str, Any]
+    speed_kmh: float | None
+    point: str
+    direction: str
+    quantity: str
+    rigid: float | None
+    flexible: float | None
+    difference: float | None = Field(description="flexible − rigid")
+    relative: float | None = Field(description="(flexible − rigid) / rigid")
+    rigid_job: str
+    flexible_job: str
+
+
+class StudyTables(BaseModel):
+    """Study results ready to plot."""
+
+    sperling_vs_speed: list[SpeedSeries] = Field(default_factory=list)
+    peak_vs_speed: list[SpeedSeries] = Field(default_factory=list)
+    flexible_vs_rigid: list[FlexRigidRow] = Field(default_factory=list)
+    notes: list[str] = Field(default_factory=list)
+
+
+class StudyOut(BaseModel):
+    """State of a study."""
+
+    id: str
+    name: str
+    description: str
+    preset: str | None
+    created_at: datetime
+    status: Literal["queued", "running", "succeeded", "failed", "cancelled", "partial", "empty"]
+    progress: float
+    n_jobs: int
+    counts: dict[str, int]
+    axes: list[dict[str, Any]]
+    links: dict[str, str] = Field(default_factory=dict)
+
+
+class StudyDetail(StudyOut):
+    """A study with its jobs and its aggregated tables."""
+
+    jobs: list[StudyJobOut]
+    tables: StudyTables
+
+
+class StudyList(BaseModel):
+    """A page of studies, newest first."""
+
+    items: list[StudyOut]
+    total: int
+    limit: int
+    offset: int
+
+
+class StudyPresetOut(BaseModel):
+    """A built-in study and the request it stands for."""
+
+    name: str
+    description: str
+    request: dict[str, Any]
+    n_jobs: int
