@@ -21,7 +21,7 @@ _AUTH_DOC: dict[int | str, dict[str, Any]] = {
 
 @router.post("/studies", status_code=201, response_model=StudyDetail, dependencies=AUTH,
              summary="Submit a study", responses=_AUTH_DOC)
-def submit_study(body: StudyCreate, svc: ServicesDep) -> dict[str, Any]:
+def submit_study(body: StudyCreate, svc: ServicesDep) -> StudyDetail:
     """Create the job matrix of a base scenario and its axes (conditions × speeds × body
     models × parameters) and queue every job. ``{"preset": "paper-table3"}`` runs the
     paper's 16 conditions.
@@ -40,7 +40,7 @@ def list_studies(
 
 
 @router.get("/studies/{study_id}", response_model=StudyDetail, summary="Study detail")
-def get_study(study_id: StudyId, svc: ServicesDep) -> dict[str, Any]:
+def get_study(study_id: StudyId, svc: ServicesDep) -> StudyDetail:
     """Jobs of the study and its tables: Sperling vs speed per condition and point, peak
     acceleration vs speed with linear fit and R², flexible vs rigid differences.
     """
@@ -49,7 +49,7 @@ def get_study(study_id: StudyId, svc: ServicesDep) -> dict[str, Any]:
 
 @router.post("/studies/{study_id}/cancel", response_model=StudyDetail, dependencies=AUTH,
              summary="Cancel a study", responses=_AUTH_DOC)
-def cancel_study(study_id: StudyId, svc: ServicesDep) -> dict[str, Any]:
+def cancel_study(study_id: StudyId, svc: ServicesDep) -> StudyDetail:
     """Cancel every queued or running job of the study."""
     return svc_studies.cancel_study(svc, study_id)
 

@@ -2,22 +2,26 @@
 
 from __future__ import annotations
 
-from datetime import datetime
-from typing import Any, Literal
+from typing import Any, Literal, Self
 
 from pydantic import (
+    AliasChoices,
     BaseModel,
     ConfigDict,
     Field,
+    computed_field,
+    field_validator,
     model_validator,
 )
 
 from flexride.api.schemas.common import (
     _NAME_PATTERN,
     BodyModelName,
+    Epoch,
     JobStatus,
     _Strict,
 )
+from flexride.settings import API_PREFIX
 
 # -- studies ---------------------------------------------------------------------------------
 
@@ -93,10 +97,12 @@ class StudyCreate(_Strict):
 
 
 class StudyJobOut(BaseModel):
-    """A job of a study: its place in the matrix and its state."""
+    """A job of a study: its place in the matrix and its state (read from its record)."""
+
+    model_config = ConfigDict(from_attributes=True, populate_by_name=True)
 
     id: str
-    index: int | None
+    index: int | None = Field(validation_alias=AliasChoices("index", "study_index"))
     name: str
     axes: dict[str, Any]
     status: JobStatus
@@ -104,6 +110,11 @@ class StudyJobOut(BaseModel):
     speed_kmh: float | None
     error: str | None = None
     reused_from: str | None = None
+
+    @field_validator("axes", mode="before")
+    @classmethod
+    def _no_axes(cls, value: Any) -> Any:
+        return value or {}
 
 
 class LinearFitOut(BaseModel):
@@ -159,26 +170,47 @@ class StudyTables(BaseModel):
 
 
 class StudyOut(BaseModel):
-    """State of a study."""
+    """State of a study: its record (``StudyOut.model_validate(study)``) and the state of its
+    jobs (:meth:`with_jobs_state`).
+    """
+
+    model_config = ConfigDict(from_attributes=True)
 
     id: str
     name: str
     description: str
     preset: str | None
-    created_at: datetime
-    status: Literal["queued", "running", "succeeded", "failed", "cancelled", "partial", "empty"]
-    progress: float
+    created_at: Epoch
+    status: Literal["queued", "running", "succeeded", "failed", "cancelled", "partial",
+                    "empty"] = "empty"
+    progress: float = 0.0
     n_jobs: int
-    counts: dict[str, int]
+    counts: dict[str, int] = Field(default_factory=dict)
     axes: list[dict[str, Any]]
-    links: dict[str, str] = Field(default_factory=dict)
+
+    @field_validator("axes", mode="before")
+    @classmethod
+    def _no_axes(cls, value: Any) -> Any:
+        return value or []
+
+    @computed_field(description="URLs of the study's resources")  # type: ignore[prop-decorator]
+    @property
+    def links(self) -> dict[str, str]:
+        """URLs of the study and of its jobs."""
+        return {"self": f"{API_PREFIX}/studies/{self.id}",
+                "jobs": f"{API_PREFIX}/jobs?study_id={self.id}"}
+
+    def with_jobs_state(self, status: str, progress: float, counts: dict[str, int]) -> Self:
+        """The same study with the state of its jobs (status word, fraction done, counts)."""
+        return self.model_copy(update={"status": status, "progress": progress,
+                                       "counts": counts})
 
 
 class StudyDetail(StudyOut):
     """A study with its jobs and its aggregated tables."""
 
-    jobs: list[StudyJobOut]
-    tables: StudyTables
+    jobs: list[StudyJobOut] = Field(default_factory=list)
+    tables: StudyTables = Field(default_factory=StudyTables)
 
 
 class StudyList(BaseModel):

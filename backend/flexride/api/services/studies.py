@@ -6,9 +6,7 @@ from typing import Any
 
 from flexride.api.deps import Services
 from flexride.api.errors import NotFound
-from flexride.api.schemas import StudyCreate
-from flexride.api.services.jobs import iso
-from flexride.settings import API_PREFIX
+from flexride.api.schemas import StudyCreate, StudyDetail, StudyJobOut, StudyOut, StudyTables
 from flexride.store import FINAL_STATUSES, Study
 from flexride.study.aggregate import study_tables
 from flexride.study.expand import expand_study
@@ -29,14 +27,10 @@ def study_status(counts: dict[str, int]) -> str:
     return "partial"
 
 
-def study_out(study: Study, counts: dict[str, int], progress: float) -> dict[str, Any]:
-    """The API view of a study (``StudyOut``)."""
-    base = f"{API_PREFIX}/studies/{study.id}"
-    return {"id": study.id, "name": study.name, "description": study.description,
-            "preset": study.preset, "created_at": iso(study.created_at),
-            "status": study_status(counts), "progress": progress, "n_jobs": study.n_jobs,
-            "counts": counts, "axes": study.axes or [],
-            "links": {"self": base, "jobs": f"{API_PREFIX}/jobs?study_id={study.id}"}}
+def study_out(study: Study, counts: dict[str, int], progress: float) -> StudyOut:
+    """The API view of a study with the state of its jobs."""
+    return StudyOut.model_validate(study).with_jobs_state(study_status(counts), progress,
+                                                          counts)
 
 
 def _progress(jobs: list[Any]) -> float:
@@ -45,7 +39,7 @@ def _progress(jobs: list[Any]) -> float:
     return sum(1.0 if j.status in FINAL_STATUSES else j.progress for j in jobs) / len(jobs)
 
 
-def create_study(svc: Services, body: StudyCreate) -> dict[str, Any]:
+def create_study(svc: Services, body: StudyCreate) -> StudyDetail:
     """Expand the request into its job matrix, check and queue every job."""
     plan = expand_study(body.model_dump(mode="json", exclude_unset=True) | {"reuse": body.reuse},
                         svc.settings.max_study_jobs)
@@ -61,19 +55,19 @@ def get_study(svc: Services, study_id: str) -> Study:
     return study
 
 
-def study_detail(svc: Services, study_id: str) -> dict[str, Any]:
+def study_detail(svc: Services, study_id: str) -> StudyDetail:
     """A study with its jobs and tables (Sperling and peaks against speed, flexible/rigid)."""
     study = get_study(svc, study_id)
     jobs = svc.store.study_jobs(study_id, summary=True)
     counts: dict[str, int] = {}
     for j in jobs:
         counts[j.status] = counts.get(j.status, 0) + 1
-    rows = [{"id": j.id, "index": j.study_index, "name": j.name, "axes": j.axes or {},
-             "status": j.status, "progress": j.progress, "speed_kmh": j.speed_kmh,
-             "error": j.error, "reused_from": j.reused_from} for j in jobs]
     tables = study_tables([{"id": j.id, "axes": j.axes or {}, "speed_kmh": j.speed_kmh,
                             "status": j.status, "summary": j.summary} for j in jobs])
-    return {**study_out(study, counts, _progress(jobs)), "jobs": rows, "tables": tables}
+    return StudyDetail.model_validate(study).with_jobs_state(
+        study_status(counts), _progress(jobs), counts).model_copy(update={
+            "jobs": [StudyJobOut.model_validate(j) for j in jobs],
+            "tables": StudyTables.model_validate(tables)})
 
 
 def list_studies(svc: Services, limit: int, offset: int) -> dict[str, Any]:
@@ -89,7 +83,7 @@ def list_studies(svc: Services, limit: int, offset: int) -> dict[str, Any]:
     return {"items": out, "total": total, "limit": limit, "offset": offset}
 
 
-def cancel_study(svc: Services, study_id: str) -> dict[str, Any]:
+def cancel_study(svc: Services, study_id: str) -> StudyDetail:
     """Cancel every queued or running job of a study."""
     get_study(svc, study_id)
     for job in svc.store.study_jobs(study_id):
