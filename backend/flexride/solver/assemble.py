@@ -6,7 +6,7 @@ Runs once per scenario in NumPy; nothing here is in the time loop.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, NamedTuple
 
 import numpy as np
 
@@ -185,40 +185,123 @@ def channel_layout(veh: VehicleModel, profiles: bool = False
     return names, units, kinds
 
 
-def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
-             sources: MeasuredSources = LIBRARY) -> Assembly:
-    """Build the SystemArrays of ``scenario``.
+class _DofLayout(NamedTuple):
+    """Where each body's and the rails' coordinates sit in the state vector."""
+
+    ndof: np.ndarray  # coordinates per body, int64
+    off: np.ndarray  # first state index of each body, int64
+    n_veh: int  # vehicle coordinates (the rails' modal coordinates follow)
+    n_rail_modes: int  # modes per rail direction
+
+    @property
+    def n(self) -> int:
+        """Length of the state vector: vehicle plus 2 rails × 3 directions × modes."""
+        return self.n_veh + 6 * self.n_rail_modes
+
+
+class _Suspension(NamedTuple):
+    """Suspension elements, recorded points and the flat marker matrices they refer to."""
+
+    el_a: np.ndarray  # body A of each element, int64
+    el_b: np.ndarray  # body B of each element, int64
+    el_phia: np.ndarray  # offset in ``phi`` of the marker matrix on A, int64
+    el_phib: np.ndarray  # offset in ``phi`` of the marker matrix on B, int64
+    el_k: np.ndarray  # (ne, 6) stiffnesses, N/m and N·m/rad
+    el_c: np.ndarray  # (ne, 6) dampings, N·s/m and N·m·s/rad
+    el_pb: np.ndarray  # (ne, 3) marker B position from B's track-frame origin, m
+    pt_body: np.ndarray  # body of each recorded point, int64
+    pt_phi: np.ndarray  # offset in ``phi`` of each recorded point's marker matrix, int64
+    phi: np.ndarray  # all marker matrices, flat
+
+
+class _Contact(NamedTuple):
+    """Wheel–rail contact tables and the scalars that go with them."""
+
+    table: ContactTable  # one-point table (conical, or the profiles' rigid single table)
+    profiles: ProfileContactTable | None  # two-slot table of real profiles, else None
+    ct: np.ndarray  # one-point table data, [side, field, Δy sample]
+    ct2: np.ndarray  # two-slot table [side, slot, field, Δy sample]; zeros for conical contact
+    ct_grid: np.ndarray  # one-point table parameters: [0] y0 m, [1] dy m, … (TABLE_PARAMS)
+    ct2_grid: np.ndarray  # two-slot grid: [0] y0 m, [1] dy m
+    b0: float  # rolling-circle half distance, m
+    hertz_g: float  # Hertz constant G of the centred tread contact, m/N^(2/3)
+    model: int  # S.CONTACT_CONICAL or S.CONTACT_PROFILES
+
+
+def _dof_layout(veh: VehicleModel, rail: RailModel) -> _DofLayout:
+    """State-vector layout: per-body coordinate counts and offsets, then the rail modes.
+
+    Parameters
+    ----------
+    veh : VehicleModel
+        The vehicle.
+    rail : RailModel
+        The rail window model (its mode count).
+
+    Returns
+    -------
+    _DofLayout
+        Counts and offsets (dimensionless indices).
+    """
+    ndof = np.array([b.n_dof for b in veh.bodies], dtype=np.int64)
+    off = np.concatenate([[0], np.cumsum(ndof)[:-1]]).astype(np.int64)
+    return _DofLayout(ndof, off, int(ndof.sum()), rail.n_modes)
+
+
+def _rail_window(scenario: Scenario, veh: VehicleModel) -> tuple[RailModel, int]:
+    """Modal rail model of the moving window that covers every wheelset plus margins.
 
     Parameters
     ----------
     scenario : Scenario
-        Validated scenario.
-    vehicle : VehicleModel, optional
-        A prebuilt vehicle (e.g. with flexible bodies); built from the scenario otherwise.
-    sources : MeasuredSources
-        Where measured irregularities may be read from (default: files by path).
-    """
-    veh = vehicle or vehicle_for(scenario)
-    bodies = veh.bodies
-    nb = len(bodies)
-    ndof = np.array([b.n_dof for b in bodies], dtype=np.int64)
-    off = np.concatenate([[0], np.cumsum(ndof)[:-1]]).astype(np.int64)
-    n_veh = int(ndof.sum())
+        Validated scenario (track, fastener spacing, solver margins).
+    veh : VehicleModel
+        The vehicle (wheelset positions set the span, m).
 
+    Returns
+    -------
+    rail : RailModel
+        Rail model of window length span + margins, shifted by whole bays.
+    shift_bays : int
+        Fastener bays (each ``fastener.spacing`` m) the window moves by at a shift.
+    """
     sol = scenario.solver
-    ws_x = np.array([bodies[i].x_ref for i in veh.wheelsets])
+    ws_x = np.array([veh.bodies[i].x_ref for i in veh.wheelsets])
     span = float(ws_x.max() - ws_x.min())
     fas = scenario.track.fastener
     nshift = max(1, round(sol.rail_shift_m / fas.spacing))
     rail = build_rail_model(scenario.track, span, sol.rail_margin_m, nshift * fas.spacing)
-    nm = rail.n_modes
-    n = n_veh + 6 * nm
+    return rail, nshift
 
-    # inverse generalised mass
-    minv = np.empty(n)
+
+def _diagonals(veh: VehicleModel, rail: RailModel, dofs: _DofLayout
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Inverse generalised mass of every coordinate, and the bodies' modal stiffness and damping.
+
+    Parameters
+    ----------
+    veh : VehicleModel
+        The vehicle.
+    rail : RailModel
+        The rail window (modal mass kg, roll inertia kg·m²).
+    dofs : _DofLayout
+        State-vector layout.
+
+    Returns
+    -------
+    minv : ndarray
+        (n,) inverse masses, 1/kg or 1/(kg·m²); vehicle then rails (left, right; vertical,
+        lateral, torsion).
+    kdiag : ndarray
+        (n_veh,) modal stiffness, N/m (zero for rigid coordinates).
+    cdiag : ndarray
+        (n_veh,) modal damping, N·s/m (zero for rigid coordinates).
+    """
+    n_veh, nm = dofs.n_veh, dofs.n_rail_modes
+    minv = np.empty(dofs.n)
     kdiag = np.zeros(n_veh)
     cdiag = np.zeros(n_veh)
-    for b, o in zip(bodies, off, strict=True):
+    for b, o in zip(veh.bodies, dofs.off, strict=True):
         minv[o : o + b.n_dof] = 1.0 / b.mass_diagonal()
         kdiag[o : o + b.n_dof] = b.modal_stiffness()
         cdiag[o : o + b.n_dof] = b.modal_damping()
@@ -227,8 +310,26 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         minv[o : o + nm] = 1.0 / rail.mass
         minv[o + nm : o + 2 * nm] = 1.0 / rail.mass
         minv[o + 2 * nm : o + 3 * nm] = 1.0 / rail.roll_inertia
+    return minv, kdiag, cdiag
 
-    # marker matrices, flat
+
+def _suspension(veh: VehicleModel) -> _Suspension:
+    """Suspension element arrays and recorded points, with their marker matrices stored once
+    each in one flat array (elements' markers first, then the points').
+
+    Parameters
+    ----------
+    veh : VehicleModel
+        The vehicle.
+
+    Returns
+    -------
+    _Suspension
+        Element bodies, marker offsets, stiffness (N/m, N·m/rad), damping (N·s/m, N·m·s/rad)
+        and marker B position (m, from B's track-frame origin); recorded points' bodies
+        and marker offsets; the flat marker matrices.
+    """
+    bodies = veh.bodies
     phi_chunks: list[np.ndarray] = []
     phi_off: dict[tuple[int, str], int] = {}
     pos = 0
@@ -262,8 +363,32 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
     pt_body = np.array([p[1] for p in veh.points], dtype=np.int64)
     pt_phi = np.array([marker_offset(p[1], p[2]) for p in veh.points], dtype=np.int64)
     phi = np.concatenate(phi_chunks) if phi_chunks else np.zeros(1)
+    return _Suspension(el_a, el_b, el_pa, el_pb_off, el_k, el_c, el_pb, pt_body, pt_phi, phi)
 
-    # contact
+
+def _contact(scenario: Scenario, veh: VehicleModel, sources: MeasuredSources) -> _Contact:
+    """Contact tables: the conical one-point table, or the real-profile two-slot table.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Validated scenario (its ``contact`` section and rail Young's modulus, Pa).
+    veh : VehicleModel
+        The vehicle (wheel radius and rolling-circle half distance, m).
+    sources : MeasuredSources
+        Where measured profiles may be read from.
+
+    Returns
+    -------
+    _Contact
+        Tables sampled on the wheelset's lateral displacement Δy (m), their grids, the
+        rolling-circle half distance b0 (m) and the Hertz constant G (m/N^(2/3)).
+
+    Raises
+    ------
+    ScenarioError
+        The profiles cannot be built, located at ``contact``.
+    """
     c = scenario.contact
     r0 = veh.wheel_radius
     b0 = veh.rolling_circle_half_distance
@@ -300,48 +425,121 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         contact_model = S.CONTACT_CONICAL
     tparams, tdata = table.as_arrays()
     ct = np.ascontiguousarray(tdata.transpose(1, 0, 2))
+    return _Contact(table, ptable, ct, ct2, tparams, p2, b0, hertz_g, contact_model)
 
-    # route: vehicle centre runs from 0 to distance
-    speed = scenario.speed_mps
-    duration = scenario.duration
-    dist = speed * duration
-    x_lo = min(b.x_ref for b in bodies) - 20.0
-    x_hi = max(b.x_ref for b in bodies) + 20.0
+
+def _route(scenario: Scenario, veh: VehicleModel, sources: MeasuredSources
+           ) -> tuple[LineTable, IrregularityProfile]:
+    """Line-geometry and irregularity tables along the route. The vehicle centre runs from
+    0 to speed × duration (m); the line table reaches 25 m beyond the outermost bodies at
+    both ends of the run, the irregularity grid runs from 0 to that far end.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Validated scenario (line, excitations, speed m/s, duration s).
+    veh : VehicleModel
+        The vehicle (body positions x_ref, m).
+    sources : MeasuredSources
+        Where measured irregularities may be read from.
+
+    Returns
+    -------
+    line : LineTable
+        Curvature, cant and gradient along the route, sampled in distance (m).
+    irregularity : IrregularityProfile
+        Sum of the excitations' rail irregularities (m) from 0 to the route's far end.
+    """
+    dist = scenario.speed_mps * scenario.duration
+    x_lo = min(b.x_ref for b in veh.bodies) - 20.0
+    x_hi = max(b.x_ref for b in veh.bodies) + 20.0
     b_rail = scenario.track.rail_centre_half_distance
     line = build_line_table(scenario.line, x_lo - 5.0, dist + x_hi + 5.0, b_rail)
     irr = _irregularity(scenario, dist + x_hi + 5.0, sources)
+    return line, irr
 
-    n_steps = round(duration / sol.dt)
-    rate = output_rate_for(scenario)
-    ndec = round(1.0 / (sol.dt * rate))
 
-    names, units, kinds = channel_layout(veh, profiles=ptable is not None)
-    ch = np.array(kinds, dtype=np.int64).reshape(-1, 3)
+def _dof_names(veh: VehicleModel, dofs: _DofLayout) -> tuple[list[str], np.ndarray]:
+    """Names of all coordinates, and the subset solved in statics: z and roll of every body,
+    pitch of every body but the wheelsets (theirs is the spin), elastic modes, all rail modes.
 
-    # dof names and the subset solved in statics (vertical plane + rails + elastic modes)
+    Parameters
+    ----------
+    veh : VehicleModel
+        The vehicle.
+    dofs : _DofLayout
+        State-vector layout.
+
+    Returns
+    -------
+    dof_names : list of str
+        ``<body>.<x|y|z|roll|pitch|yaw|modeK>`` then ``rail.<side>.<direction>.modeK``.
+    static_dofs : ndarray
+        int64 state indices of the static subset.
+    """
     dof_names: list[str] = []
     static = []
-    for bi, body in enumerate(bodies):
+    for bi, body in enumerate(veh.bodies):
         for j in range(body.n_dof):
             nm_ = RIGID_NAMES[j] if j < 6 else f"mode{j - 5}"
             dof_names.append(f"{body.name}.{nm_}")
             if j in (2, 3) or j >= 6 or (j == 4 and not body.is_wheelset):
-                static.append(int(off[bi] + j))
+                static.append(int(dofs.off[bi] + j))
     for side in SIDES:
         for d in RAIL_DIRS:
-            dof_names.extend(f"rail.{side}.{d}.mode{k + 1}" for k in range(nm))
-    static.extend(range(n_veh, n))
+            dof_names.extend(f"rail.{side}.{d}.mode{k + 1}" for k in range(dofs.n_rail_modes))
+    static.extend(range(dofs.n_veh, dofs.n))
+    return dof_names, np.array(static, dtype=np.int64)
 
-    # traction link: 0.05 Hz, critically damped, on the whole vehicle mass
+
+def _scalars(scenario: Scenario, veh: VehicleModel, rail: RailModel, shift_bays: int,
+             dofs: _DofLayout, contact: _Contact, line: LineTable, irr: IrregularityProfile,
+             n_dec: int, n_ch: int) -> S.Scalars:
+    """The kernel's named scalars (``par``).
+
+    Includes the time step (s), speed (m/s), rail foundation properties per metre (N/m²,
+    N·s/m²), friction, shear modulus (Pa), table grids (m), and the soft traction link
+    (:data:`TRACTION_LINK_HZ`, critically damped on the whole vehicle mass: N/m, N·s/m).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Validated scenario.
+    veh : VehicleModel
+        The vehicle.
+    rail : RailModel
+        The rail window.
+    shift_bays : int
+        Fastener bays per window shift.
+    dofs : _DofLayout
+        State-vector layout.
+    contact : _Contact
+        Contact tables.
+    line : LineTable
+        Line-geometry table.
+    irr : IrregularityProfile
+        Irregularity table.
+    n_dec : int
+        Time steps per output sample.
+    n_ch : int
+        Number of recorded channels.
+
+    Returns
+    -------
+    Scalars
+        Each value cast to its field's type.
+    """
+    sol = scenario.solver
+    c = scenario.contact
     w_tr = 2.0 * np.pi * TRACTION_LINK_HZ
-    par = S.make_scalars(
+    return S.make_scalars(
         dt=sol.dt,
         psi=sol.psi,
         phi=sol.phi,
-        speed=speed,
+        speed=scenario.speed_mps,
         gravity=GRAVITY,
-        b0=b0,
-        r0=r0,
+        b0=contact.b0,
+        r0=veh.wheel_radius,
         win_len=rail.length,
         spacing=rail.spacing,
         h_foot=rail.h_foot,
@@ -352,17 +550,17 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         kr_d=rail.k_roll / rail.spacing,
         cr_d=rail.c_roll / rail.spacing,
         mu=c.friction,
-        g_shear=c.shear_modulus_for(E_rail),
-        hertz_g=hertz_g,
+        g_shear=c.shear_modulus_for(scenario.track.rail.youngs_modulus),
+        hertz_g=contact.hertz_g,
         flange_clearance=c.flange_clearance,
-        flange_k=c.flange_stiffness if ptable is None else 0.0,
+        flange_k=c.flange_stiffness if contact.profiles is None else 0.0,
         runaway=sol.runaway_displacement_m,
         v_min=CREEP_MIN_SPEED,
-        ct_y0=tparams[0],
-        ct_dy=tparams[1],
-        ct2_y0=p2[0],
-        ct2_dy=p2[1],
-        contact_model=contact_model,
+        ct_y0=contact.ct_grid[0],
+        ct_dy=contact.ct_grid[1],
+        ct2_y0=contact.ct2_grid[0],
+        ct2_dy=contact.ct2_grid[1],
+        contact_model=contact.model,
         irr_s0=irr.s0,
         irr_ds=irr.ds,
         ln_s0=line.s0,
@@ -371,59 +569,133 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         margin=sol.rail_margin_m,
         k_traction=veh.total_mass * w_tr**2,
         c_traction=2.0 * veh.total_mass * w_tr,
-        n_veh=n_veh,
-        n_rail_modes=nm,
-        n_bodies=nb,
-        n_elem=ne,
+        n_veh=dofs.n_veh,
+        n_rail_modes=dofs.n_rail_modes,
+        n_bodies=len(veh.bodies),
+        n_elem=len(veh.elements),
         n_ws=len(veh.wheelsets),
-        n_dec=ndec,
-        shift_bays=nshift,
+        n_dec=n_dec,
+        shift_bays=shift_bays,
         n_points=len(veh.points),
-        n_ch=len(names),
+        n_ch=n_ch,
     )
 
-    sysarr = S.SystemArrays(
+
+def _system_arrays(par: S.Scalars, veh: VehicleModel, rail: RailModel, dofs: _DofLayout,
+                   diagonals: tuple[np.ndarray, np.ndarray, np.ndarray], susp: _Suspension,
+                   contact: _Contact, line: LineTable, irr: IrregularityProfile,
+                   kinds: list[tuple[int, int, int]]) -> S.SystemArrays:
+    """The kernel's SystemArrays, gathered from the assembled parts.
+
+    Parameters
+    ----------
+    par : Scalars
+        Named scalars.
+    veh : VehicleModel
+        The vehicle (body positions m, cg heights m, masses kg, inertias kg·m²).
+    rail : RailModel
+        The rail window (modal stiffnesses, wavenumbers rad/m, sine matrix).
+    dofs : _DofLayout
+        State-vector layout.
+    diagonals : tuple of ndarray
+        Inverse masses, modal stiffness and modal damping (:func:`_diagonals`).
+    susp : _Suspension
+        Suspension elements, recorded points and marker matrices.
+    contact : _Contact
+        Contact tables.
+    line : LineTable
+        Line-geometry table.
+    irr : IrregularityProfile
+        Irregularities (m), stacked as z left, z right, y left, y right.
+    kinds : list of (int, int, int)
+        Kernel recipes of the recorded channels (:func:`channel_layout`).
+
+    Returns
+    -------
+    SystemArrays
+        Contiguous arrays for the kernel.
+    """
+    bodies = veh.bodies
+    minv, kdiag, cdiag = diagonals
+    ch = np.array(kinds, dtype=np.int64).reshape(-1, 3)
+    return S.SystemArrays(
         par=par,
         minv=minv,
         kdiag=kdiag,
         cdiag=cdiag,
-        body_off=off,
-        body_ndof=ndof,
+        body_off=dofs.off,
+        body_ndof=dofs.ndof,
         body_x=np.array([b.x_ref for b in bodies]),
         body_h=np.array([b.cg_height for b in bodies]),
         body_mass=np.array([b.mass for b in bodies]),
         body_inertia=np.ascontiguousarray(np.array([b.inertia for b in bodies], dtype=float)),
         body_ws=np.array([1 if b.is_wheelset else 0 for b in bodies], dtype=np.int64),
-        phi=phi,
-        el_a=el_a,
-        el_b=el_b,
-        el_phia=el_pa,
-        el_phib=el_pb_off,
-        el_k=el_k,
-        el_c=el_c,
-        el_pb=el_pb,
+        phi=susp.phi,
+        el_a=susp.el_a,
+        el_b=susp.el_b,
+        el_phia=susp.el_phia,
+        el_phib=susp.el_phib,
+        el_k=susp.el_k,
+        el_c=susp.el_c,
+        el_pb=susp.el_pb,
         ws_body=np.array(veh.wheelsets, dtype=np.int64),
         rail_kz=rail.vertical_stiffness(),
         rail_kyb=rail.lateral_bending_stiffness(),
         rail_ktb=rail.torsional_stiffness(),
         rail_kap=rail.wavenumbers(),
         rail_dst=np.ascontiguousarray(rail.sine_matrix()),
-        ct=ct,
-        ct2=ct2,
+        ct=contact.ct,
+        ct2=contact.ct2,
         irr=np.ascontiguousarray(np.vstack([irr.z_left, irr.z_right, irr.y_left, irr.y_right])),
         line=line.as_array(),
-        pt_body=pt_body,
-        pt_phi=pt_phi,
+        pt_body=susp.pt_body,
+        pt_phi=susp.pt_phi,
         ch_kind=np.ascontiguousarray(ch[:, 0]),
         ch_a=np.ascontiguousarray(ch[:, 1]),
         ch_b=np.ascontiguousarray(ch[:, 2]),
-        body_line=np.zeros((nb, S.N_BL)),
+        body_line=np.zeros((len(bodies), S.N_BL)),
     )
+
+
+def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
+             sources: MeasuredSources = LIBRARY) -> Assembly:
+    """Build the SystemArrays of ``scenario``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Validated scenario.
+    vehicle : VehicleModel, optional
+        A prebuilt vehicle (e.g. with flexible bodies); built from the scenario otherwise.
+    sources : MeasuredSources
+        Where measured irregularities may be read from (default: files by path).
+
+    Returns
+    -------
+    Assembly
+        The kernel's arrays and what is needed to read its results.
+    """
+    veh = vehicle or vehicle_for(scenario)
+    rail, shift_bays = _rail_window(scenario, veh)
+    dofs = _dof_layout(veh, rail)
+    diagonals = _diagonals(veh, rail, dofs)
+    susp = _suspension(veh)
+    contact = _contact(scenario, veh, sources)
+    line, irr = _route(scenario, veh, sources)
+
+    n_steps = round(scenario.duration / scenario.solver.dt)
+    rate = output_rate_for(scenario)
+    n_dec = round(1.0 / (scenario.solver.dt * rate))
+    names, units, kinds = channel_layout(veh, profiles=contact.profiles is not None)
+    dof_names, static_dofs = _dof_names(veh, dofs)
+
+    par = _scalars(scenario, veh, rail, shift_bays, dofs, contact, line, irr, n_dec, len(names))
+    sysarr = _system_arrays(par, veh, rail, dofs, diagonals, susp, contact, line, irr, kinds)
     return Assembly(
         sys=sysarr,
         vehicle=veh,
         rail=rail,
-        contact=table,
+        contact=contact.table,
         line=line,
         irregularity=irr,
         dof_names=dof_names,
@@ -431,6 +703,6 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         channel_units=units,
         n_steps=n_steps,
         output_rate=rate,
-        static_dofs=np.array(static, dtype=np.int64),
-        profiles=ptable,
+        static_dofs=static_dofs,
+        profiles=contact.profiles,
     )
