@@ -3,7 +3,7 @@
 
 import { api, cached } from "../api.js";
 import { h, setChildren, notice, errorBox, loading } from "../components/dom.js";
-import { plainDescription, unitOf } from "../components/schemaform.js";
+import { plainDescription, unitOf } from "../components/schema.js";
 import { parseYamlOrJson } from "../components/yaml.js";
 import { go } from "../components/nav.js";
 

@@ -1,0 +1,105 @@
+// Reading the scenario's JSON schema: $ref resolution, scalar info, defaults, the variant of a
+// discriminated union, and what a node is called (label, help, unit).
+
+const SCALAR_TYPES = ["number", "integer", "string", "boolean"];
+
+/** Deep copy of a JSON value (undefined stays undefined). */
+export function clone(v) {
+  return v === undefined ? undefined : JSON.parse(JSON.stringify(v));
+}
+
+/** A node with its $ref replaced by the definition it names (the node's own keys win). */
+export function resolve(defs, node) {
+  if (!node) return {};
+  if (!node.$ref) return node;
+  const target = defs[node.$ref.split("/").pop()] || {};
+  const { $ref, ...rest } = node;
+  return { ...target, ...rest, description: rest.description || target.description };
+}
+
+/** Scalar info of an `anyOf` node: nullable, and the one non-null member merged in. */
+function anyOfInfo(defs, node) {
+  const nonNull = node.anyOf.filter((x) => x.type !== "null");
+  const nullable = nonNull.length < node.anyOf.length;
+  if (nonNull.length !== 1) return { ...node, nullable, isScalar: false };
+  const inner = resolve(defs, nonNull[0]);
+  return {
+    ...inner, description: node.description, unit: node.unit ?? inner.unit, title: node.title,
+    default: node.default, nullable, isScalar: SCALAR_TYPES.includes(inner.type),
+  };
+}
+
+/** Numeric/nullable info of a node: {type, nullable, isScalar, bounds, enum, const, …}. */
+export function scalarInfo(defs, node) {
+  node = resolve(defs, node);
+  if (node.anyOf) return anyOfInfo(defs, node);
+  return { ...node, nullable: false, isScalar: SCALAR_TYPES.includes(node.type) || node.const !== undefined };
+}
+
+/** The value a fresh node starts with: its default, const, the defaults of its properties, null or []. */
+export function defaultsOf(defs, node) {
+  const r = resolve(defs, node);
+  if (r.default !== undefined) return clone(r.default);
+  if (r.const !== undefined) return r.const;
+  if (r.type === "object" || r.properties) {
+    const o = {};
+    for (const [k, sub] of Object.entries(r.properties || {})) {
+      const d = defaultsOf(defs, sub);
+      if (d !== undefined) o[k] = d;
+    }
+    return o;
+  }
+  if (scalarInfo(defs, node).nullable) return null;
+  if (r.type === "array") return [];
+  return undefined;
+}
+
+/** Defaults of the variant `kind` of a discriminated union, with its discriminator set. */
+export function freshVariant(defs, union, kind) {
+  const fresh = defaultsOf(defs, { $ref: union.discriminator.mapping[kind] });
+  fresh[union.discriminator.propertyName] = kind;
+  return fresh;
+}
+
+/** The variant a value of a discriminated union is: {prop, kind, schema} (schema null if unknown). */
+export function variantOf(defs, union, v) {
+  const prop = union.discriminator.propertyName;
+  const kind = v && v[prop];
+  const ref = union.discriminator.mapping[kind];
+  return { prop, kind, schema: ref ? resolve(defs, { $ref: ref }) : null };
+}
+
+// -- names, descriptions, units -----------------------------------------------------------------
+
+/** Unit of a schema node: the schema's own `unit` (pydantic `quantity` fields), or null. */
+export function unitOf(node) {
+  return node?.unit ?? null;
+}
+
+/** Description of a schema node without the " (unit)" its schema closes it with. */
+export function plainDescription(node) {
+  const s = String(node?.description || "").trim();
+  const unit = unitOf(node);
+  const tail = unit ? ` (${unit})` : null;
+  return tail && s.endsWith(tail) ? s.slice(0, -tail.length).trim() : s;
+}
+
+/** Readable name of a property: speed_kmh → "Speed", rail_head_radius → "Rail head radius". */
+export function humanKey(key) {
+  const k = String(key ?? "").replace(/_(kmh|m|s|hz|mb|kn)$/i, "");
+  const t = k.replace(/_/g, " ");
+  return t.charAt(0).toUpperCase() + t.slice(1);
+}
+
+/** [label, help] of a node: a short description is the label, a long one the help text. */
+export function labelOf(node, key) {
+  const text = plainDescription(node);
+  const first = String(text || "").split("\n")[0].trim();
+  if (first && first.length <= 48 && !/[.:;]\s/.test(first)) return [first, null];
+  return [humanKey(key ?? node?.title), first || null];
+}
+
+/** The label of a node alone. */
+export function titleOf(node, key) {
+  return labelOf(node, key)[0];
+}
