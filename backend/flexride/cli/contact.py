@@ -283,19 +283,7 @@ def table_cmd(
     from flexride.contact.search import search_contact
 
     try:
-        kind = fmt or ("json" if as_json else "")
-        if not kind and output is not None:
-            kind = {".csv": "csv", ".json": "json"}.get(output.suffix.lower(), "")
-            if not kind:
-                raise ScenarioError(f"--output {output.name}: use a .csv or .json file or give "
-                                    "--format")
-        kind = kind or "table"
-        if kind not in ("table", "csv", "json"):
-            raise ScenarioError(f"--format must be table, csv or json, got {fmt!r}")
-        if kind == "table" and output is not None:
-            raise ScenarioError("--output needs --format csv or json")
-        if every_mm is not None and not (math.isfinite(every_mm) and every_mm > 0.0):
-            raise ScenarioError(f"--every-mm must be positive, got {every_mm!r}")
+        kind = _table_format(fmt, as_json, output, every_mm)
         w, r, placement, settings = _setup(wheel, rail, inclination, gauge_mm, gauge_height_mm,
                                            flange_back_mm, r0_mm, roll, y_max_mm, step_mm)
         geo = search_contact(w, r, placement, settings)
@@ -304,25 +292,7 @@ def table_cmd(
     every = every_mm * 1e-3 if every_mm is not None else (5e-4 if kind == "table" else None)
     rows = _table_rows(geo, every)
     if kind == "table":
-        t = Table(title=f"Contact geometry, {w.name} on {r.name}"
-                        f"{'' if roll else ' (no roll)'}",
-                  caption="Δy, Δr, wheel s, track y in mm; Δγ in rad; roll in mrad; "
-                          "2-pt: two-point contact (L, R)",
-                  box=box.SIMPLE_HEAD, pad_edge=False)
-        for head in ("Δy", "Δr", "Δγ", "roll", "wheel L", "wheel R", "track L", "track R",
-                     "2-pt"):
-            t.add_column(head, justify="right", no_wrap=True)
-
-        def f(v: Any, spec: str, scale: float = 1.0) -> str:
-            return "—" if v is None else format(v * scale, spec)
-
-        for row in rows:
-            two = ("L" if row["two_point_left"] else "") + ("R" if row["two_point_right"] else "")
-            t.add_row(f(row["dy_mm"], ".2f"), f(row["dr_mm"], ".4f"), f(row["dgamma_rad"], ".4f"),
-                      f(row["roll_rad"], ".4f", 1e3), f(row["wheel_left_mm"], ".2f"),
-                      f(row["wheel_right_mm"], ".2f"), f(row["track_left_mm"], ".2f"),
-                      f(row["track_right_mm"], ".2f"), two)
-        Console(highlight=False, width=max(_out.width, 100)).print(t)
+        _print_table(rows, f"Contact geometry, {w.name} on {r.name}{'' if roll else ' (no roll)'}")
         return
     if kind == "csv":
         text = _csv_text(rows)
@@ -331,6 +301,86 @@ def table_cmd(
     if output is None:
         sys.stdout.write(text)
         return
+    _write_output(output, text, len(rows))
+
+
+def _table_format(fmt: str, as_json: bool, output: Path | None, every_mm: float | None) -> str:
+    """Output format of ``contact table`` from its options, checking them.
+
+    Parameters
+    ----------
+    fmt : str
+        ``--format`` ("" when not given).
+    as_json : bool
+        ``--json``.
+    output : Path or None
+        ``--output`` file (its suffix picks the format when none is given).
+    every_mm : float or None
+        ``--every-mm`` row spacing (mm), checked to be positive.
+
+    Returns
+    -------
+    str
+        ``"table"``, ``"csv"`` or ``"json"``.
+    """
+    kind = fmt or ("json" if as_json else "")
+    if not kind and output is not None:
+        kind = {".csv": "csv", ".json": "json"}.get(output.suffix.lower(), "")
+        if not kind:
+            raise ScenarioError(f"--output {output.name}: use a .csv or .json file or give "
+                                "--format")
+    kind = kind or "table"
+    if kind not in ("table", "csv", "json"):
+        raise ScenarioError(f"--format must be table, csv or json, got {fmt!r}")
+    if kind == "table" and output is not None:
+        raise ScenarioError("--output needs --format csv or json")
+    if every_mm is not None and not (math.isfinite(every_mm) and every_mm > 0.0):
+        raise ScenarioError(f"--every-mm must be positive, got {every_mm!r}")
+    return kind
+
+
+def _print_table(rows: list[dict[str, Any]], title: str) -> None:
+    """Print the rows of ``contact table`` as a terminal table.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows from :func:`_table_rows` (lengths in mm, angles in rad; roll shown in mrad).
+    title : str
+        Table title.
+    """
+    t = Table(title=title,
+              caption="Δy, Δr, wheel s, track y in mm; Δγ in rad; roll in mrad; "
+                      "2-pt: two-point contact (L, R)",
+              box=box.SIMPLE_HEAD, pad_edge=False)
+    for head in ("Δy", "Δr", "Δγ", "roll", "wheel L", "wheel R", "track L", "track R",
+                 "2-pt"):
+        t.add_column(head, justify="right", no_wrap=True)
+
+    def f(v: Any, spec: str, scale: float = 1.0) -> str:
+        return "—" if v is None else format(v * scale, spec)
+
+    for row in rows:
+        two = ("L" if row["two_point_left"] else "") + ("R" if row["two_point_right"] else "")
+        t.add_row(f(row["dy_mm"], ".2f"), f(row["dr_mm"], ".4f"), f(row["dgamma_rad"], ".4f"),
+                  f(row["roll_rad"], ".4f", 1e3), f(row["wheel_left_mm"], ".2f"),
+                  f(row["wheel_right_mm"], ".2f"), f(row["track_left_mm"], ".2f"),
+                  f(row["track_right_mm"], ".2f"), two)
+    Console(highlight=False, width=max(_out.width, 100)).print(t)
+
+
+def _write_output(output: Path, text: str, n_rows: int) -> None:
+    """Write the CSV or JSON text of ``contact table`` to ``output`` atomically.
+
+    Parameters
+    ----------
+    output : Path
+        Destination file.
+    text : str
+        File content.
+    n_rows : int
+        Number of rows, for the confirmation line.
+    """
     try:
         from flexride.fileio import atomic_path
 
@@ -338,4 +388,4 @@ def table_cmd(
             tmp.write_text(text, encoding="utf-8")
     except OSError as exc:
         _fail(f"--output {output.name}: cannot write ({exc.strerror or exc})")
-    _out.print(f"wrote {len(rows)} rows to {output.name}")
+    _out.print(f"wrote {n_rows} rows to {output.name}")

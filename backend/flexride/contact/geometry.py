@@ -235,6 +235,53 @@ def conical_table(
     ScenarioError
         For non-physical inputs (non-positive radii, ν outside [0, 0.5], λ·y_max ≥ r0, …).
     """
+    r0, lam, b0, clearance, stiffness, rail_radius, modulus, nu, y_max, n = _conical_inputs(
+        r0, conicity, b0, flange_clearance, flange_stiffness, rail_head_radius, E, nu, y_max, n
+    )
+    dy_grid = np.linspace(-y_max, y_max, n)
+    r = np.stack([r0 + lam * dy_grid, r0 - lam * dy_grid])
+    gam = math.atan(lam)
+    gamma = np.full((2, n), gam)
+    dz = r - r0
+    yc = np.stack([-dy_grid, -dy_grid])
+    ca, cb, coeffs = _conical_contact_grid(r, gam, rail_radius, modulus, nu)
+
+    return ContactTable(
+        y0=-y_max, dy=2.0 * y_max / (n - 1), r=r, gamma=gamma, dz=dz, yc=yc, ca=ca, cb=cb,
+        c11=coeffs[0], c22=coeffs[1], c23=coeffs[2], c33=coeffs[3], r0=r0, b0=b0,
+        flange_clearance=clearance, flange_stiffness=stiffness,
+    )
+
+
+def _conical_inputs(
+    r0: float,
+    conicity: float,
+    b0: float,
+    flange_clearance: float,
+    flange_stiffness: float,
+    rail_head_radius: float,
+    E: float,
+    nu: float,
+    y_max: float,
+    n: int,
+) -> tuple[float, float, float, float, float, float, float, float, float, int]:
+    """Check and convert the arguments of :func:`conical_table` (same names and units).
+
+    Parameters
+    ----------
+    r0, conicity, b0, flange_clearance, flange_stiffness, rail_head_radius, E, nu, y_max, n
+        As for :func:`conical_table` (m, -, m, m, N/m, m, Pa, -, m, -).
+
+    Returns
+    -------
+    tuple
+        (r0, λ, b0, clearance, stiffness, rail_head_radius, E, ν, y_max) as floats and n as int.
+
+    Raises
+    ------
+    ScenarioError
+        For non-physical inputs.
+    """
     r0 = _positive("nominal rolling radius r0 (m)", r0)
     lam = _non_negative("conicity (tan γ)", conicity)
     if lam >= 1.0:
@@ -253,14 +300,34 @@ def conical_table(
     n = int(n)
     if lam * y_max >= r0:
         raise ScenarioError("conicity·y_max must be smaller than r0 (radius would vanish)")
+    return r0, lam, b0, clearance, stiffness, rail_radius, modulus, nu, y_max, n
 
-    dy_grid = np.linspace(-y_max, y_max, n)
-    r = np.stack([r0 + lam * dy_grid, r0 - lam * dy_grid])
-    gam = math.atan(lam)
-    gamma = np.full((2, n), gam)
-    dz = r - r0
-    yc = np.stack([-dy_grid, -dy_grid])
 
+def _conical_contact_grid(r: np.ndarray, gam: float, rail_radius: float, modulus: float,
+                          nu: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Hertz semi-axes and Kalker coefficients of a conical tread on a round rail head.
+
+    Parameters
+    ----------
+    r : numpy.ndarray
+        (2, n) rolling radii (m), left and right.
+    gam : float
+        Contact angle (rad), the same on both wheels.
+    rail_radius : float
+        Transverse radius of the rail head crown (m).
+    modulus : float
+        Young's modulus (Pa).
+    nu : float
+        Poisson's ratio (-).
+
+    Returns
+    -------
+    ca, cb : numpy.ndarray
+        (2, n) Hertz semi-axis factors, rolling and lateral (m/N^(1/3)).
+    coeffs : numpy.ndarray
+        (4, 2, n) Kalker coefficients c11, c22, c23, c33 (-).
+    """
+    n = r.shape[1]
     curv_y = 0.5 / rail_radius
     ca = np.empty((2, n))
     cb = np.empty((2, n))
@@ -270,25 +337,7 @@ def conical_table(
             ca_i, cb_i = hertz_ellipse(0.5 * math.cos(gam) / r[side, i], curv_y, modulus, nu)
             ca[side, i], cb[side, i] = ca_i, cb_i
             coeffs[:, side, i] = kalker_from_axes(ca_i, cb_i, nu)
-
-    return ContactTable(
-        y0=-y_max,
-        dy=2.0 * y_max / (n - 1),
-        r=r,
-        gamma=gamma,
-        dz=dz,
-        yc=yc,
-        ca=ca,
-        cb=cb,
-        c11=coeffs[0],
-        c22=coeffs[1],
-        c23=coeffs[2],
-        c33=coeffs[3],
-        r0=r0,
-        b0=b0,
-        flange_clearance=clearance,
-        flange_stiffness=stiffness,
-    )
+    return ca, cb, coeffs
 
 
 @numba.njit(cache=True, fastmath=set(FASTMATH))

@@ -360,71 +360,93 @@ def import_fe_model(
         missing from the node list, negative mass, DOFs without stiffness (constrained or
         unused DOFs) or a ``.full`` file with constrained DOFs (unless ``constrained="drop"``).
     """
-    if units not in UNIT_SYSTEMS:
-        raise FEModelError(f"unknown unit system {units!r}: use one of {UNIT_SYSTEMS}")
-    if constrained not in ("error", "drop"):
-        raise FEModelError(f"constrained must be 'error' or 'drop', not {constrained!r}")
-    if fmt is not None and fmt not in FORMATS:
-        raise FEModelError(f"unknown matrix format {fmt!r}: use one of {FORMATS}")
+    _check_options(units, constrained, fmt)
     if isinstance(nodes, tuple):
         ids, xyz = np.asarray(nodes[0], dtype=np.int64), np.asarray(nodes[1], dtype=float)
     else:
         ids, xyz = read_nodes(nodes)
-    is_file = isinstance(stiffness, (str, Path))
-    kind = (fmt or _guess_format(Path(stiffness))) if is_file else "matrix"
-    source: dict = {"format": kind}
-    dmap: list[tuple[int, int]] | None = None
-    if kind == "ansys-full":
-        if mass is not None and Path(mass) != Path(stiffness):
-            raise FEModelError("an ANSYS .full file holds both matrices: give mass=None")
-        if dof_map is not None:
-            raise FEModelError("an ANSYS .full file carries its own DOF map: give no dof_map")
-        K, M, dmap, source = _ansys_full_matrices(Path(stiffness), constrained)
-    elif kind == "op4":
-        K, M = _op4_matrices(Path(stiffness), mass, op4_names)
-    else:
-        if mass is None:
-            raise FEModelError("no mass matrix given")
-        K, M, dmap = _read_pair(stiffness, mass, fmt, dmig_names)
+    K, M, dmap, source = _read_matrices(stiffness, mass, dof_map, fmt, dmig_names, op4_names,
+                                        constrained)
+    dmap, pos = _resolve_dof_map(dmap, dof_map, ids)
+    K, M = _checked_matrices(K, M, dmap)
+    if units == "mm-t-s":
+        xyz, K, M = _mm_t_s_to_si(xyz, K, M, dmap)
+    return _fe_model(name, xyz, ids, K, M, dmap, pos, source, attachments, outputs)
+
+
+def _resolve_dof_map(
+    dmap: list[tuple[int, int]] | None,
+    dof_map: str | Path | list[tuple[int, int]] | None,
+    ids: np.ndarray,
+) -> tuple[list[tuple[int, int]], dict[int, int]]:
+    """The DOF map of the matrices: the given one, else the file's, else six per node.
+
+    Parameters
+    ----------
+    dmap : list of (node id, component) or None
+        DOF map carried by the matrix file.
+    dof_map : path or list of (node id, component 0–5), optional
+        DOF map given by the caller (replaces the file's).
+    ids : numpy.ndarray
+        Node ids in node-list order.
+
+    Returns
+    -------
+    dmap : list of (node id, component 0–5)
+        Node and component of each matrix row, checked against the node list.
+    pos : dict of int to int
+        Index of each node id in the node list.
+    """
     if dof_map is not None:
         dmap = read_dof_map(dof_map) if isinstance(dof_map, (str, Path)) else list(dof_map)
     pos = {int(i): k for k, i in enumerate(ids)}
     if dmap is None:
         dmap = [(int(i), c) for i in ids for c in range(6)]
-    missing = sorted({n for n, _ in dmap if n not in pos})
-    if missing:
-        raise FEModelError(
-            f"the DOF map refers to nodes missing from the node list: {missing[:10]}"
-            + (" ..." if len(missing) > 10 else "")
-        )
-    if len(set(dmap)) != len(dmap):
-        raise FEModelError("the DOF map names the same node and component twice")
-    n = len(dmap)
-    K = _check_matrix(K, "stiffness", n)
-    M = _check_matrix(M, "mass", n)
-    if np.any(M.diagonal() < 0):
-        bad = int(np.argmin(M.diagonal()))
-        raise FEModelError(
-            f"negative mass on the diagonal of M (row {bad}: node {dmap[bad][0]}, "
-            f"component {dmap[bad][1] + 1})"
-        )
-    if np.any(K.diagonal() < 0):
-        raise FEModelError("negative stiffness on the diagonal of K")
-    _check_no_empty_rows(K, dmap)
-    if units == "mm-t-s":
-        xyz = xyz * 1e-3
-        d = np.array([1e3 if c < 3 else 1.0 for _, c in dmap])
-        D = sp.diags(d)
-        K = (1e-3 * (D @ K @ D)).tocsc()
-        M = (1e-3 * (D @ M @ D)).tocsc()
+    _check_dof_map(dmap, pos)
+    return dmap, pos
+
+
+def _fe_model(
+    name: str,
+    xyz: np.ndarray,
+    ids: np.ndarray,
+    K: sp.csc_matrix,
+    M: sp.csc_matrix,
+    dmap: list[tuple[int, int]],
+    pos: dict[int, int],
+    source: dict,
+    attachments: Mapping[str, int] | None,
+    outputs: Mapping[str, int] | None,
+) -> FEModel:
+    """Assemble the imported :class:`FEModel` from checked SI inputs.
+
+    Parameters
+    ----------
+    name : str
+        Model name.
+    xyz : numpy.ndarray
+        (n, 3) node coordinates (m).
+    ids : numpy.ndarray
+        Node ids in node-list order.
+    K, M : scipy.sparse.csc_matrix
+        Stiffness (N/m, N·m/rad) and mass (kg, kg·m²).
+    dmap : list of (node id, component 0–5)
+        Node and component of each matrix row.
+    pos : dict of int to int
+        Index of each node id in the node list.
+    source : dict
+        Import metadata (``info["import"]``).
+    attachments, outputs : dict of str to int, optional
+        Named suspension-attachment and output nodes (node ids).
+
+    Returns
+    -------
+    FEModel
+        See :func:`import_fe_model`.
+    """
     dof_nodes = np.array([pos[nid] for nid, _ in dmap], dtype=np.int64)
     dof_comp = np.array([c for _, c in dmap], dtype=np.int64)
-    named: dict[str, int] = {}
-    for label, group in (("attachment", attachments), ("output", outputs)):
-        for key, nid in (group or {}).items():
-            if int(nid) not in pos:
-                raise FEModelError(f"{label} node {key!r} = {nid} is not in the node list")
-            named[key] = pos[int(nid)]
+    named = _named_nodes(attachments, outputs, pos)
     model = FEModel(
         name=name,
         mesh=Mesh(nodes=xyz),
@@ -442,6 +464,174 @@ def import_fe_model(
         },
     )
     return model
+
+
+def _check_options(units: str, constrained: str, fmt: str | None) -> None:
+    """Reject an unknown unit system, ``constrained`` policy or matrix format.
+
+    Parameters
+    ----------
+    units : str
+        Unit system name (see :data:`UNIT_SYSTEMS`).
+    constrained : str
+        ``"error"`` or ``"drop"``.
+    fmt : str or None
+        Matrix format (see :data:`FORMATS`) or None to guess it.
+    """
+    if units not in UNIT_SYSTEMS:
+        raise FEModelError(f"unknown unit system {units!r}: use one of {UNIT_SYSTEMS}")
+    if constrained not in ("error", "drop"):
+        raise FEModelError(f"constrained must be 'error' or 'drop', not {constrained!r}")
+    if fmt is not None and fmt not in FORMATS:
+        raise FEModelError(f"unknown matrix format {fmt!r}: use one of {FORMATS}")
+
+
+def _read_matrices(
+    stiffness: str | Path | sp.spmatrix,
+    mass: str | Path | sp.spmatrix | None,
+    dof_map: str | Path | list[tuple[int, int]] | None,
+    fmt: str | None,
+    dmig_names: tuple[str, str],
+    op4_names: tuple[str, str] | None,
+    constrained: Literal["error", "drop"],
+) -> tuple[sp.spmatrix, sp.spmatrix, list[tuple[int, int]] | None, dict]:
+    """Read K and M (file units) in the format of the stiffness file, or take the matrices.
+
+    Parameters
+    ----------
+    stiffness, mass, dof_map, fmt, dmig_names, op4_names, constrained
+        As for :func:`import_fe_model`; ``dof_map`` is only checked here (none for ``.full``).
+
+    Returns
+    -------
+    K, M : matrix
+        Stiffness and mass in the units of the files, not yet checked.
+    dmap : list of (node id, component) or None
+        The DOF map the file carries (DMIG, ANSYS ``.full``), else None.
+    source : dict
+        Import metadata, at least ``{"format": kind}``.
+    """
+    is_file = isinstance(stiffness, (str, Path))
+    kind = (fmt or _guess_format(Path(stiffness))) if is_file else "matrix"
+    source: dict = {"format": kind}
+    dmap: list[tuple[int, int]] | None = None
+    if kind == "ansys-full":
+        if mass is not None and Path(mass) != Path(stiffness):
+            raise FEModelError("an ANSYS .full file holds both matrices: give mass=None")
+        if dof_map is not None:
+            raise FEModelError("an ANSYS .full file carries its own DOF map: give no dof_map")
+        K, M, dmap, source = _ansys_full_matrices(Path(stiffness), constrained)
+    elif kind == "op4":
+        K, M = _op4_matrices(Path(stiffness), mass, op4_names)
+    else:
+        if mass is None:
+            raise FEModelError("no mass matrix given")
+        K, M, dmap = _read_pair(stiffness, mass, fmt, dmig_names)
+    return K, M, dmap, source
+
+
+def _check_dof_map(dmap: list[tuple[int, int]], pos: dict[int, int]) -> None:
+    """Reject a DOF map naming unknown nodes or the same node and component twice.
+
+    Parameters
+    ----------
+    dmap : list of (node id, component 0–5)
+        Node and component of each matrix row.
+    pos : dict of int to int
+        Index of each node id in the node list.
+    """
+    missing = sorted({n for n, _ in dmap if n not in pos})
+    if missing:
+        raise FEModelError(
+            f"the DOF map refers to nodes missing from the node list: {missing[:10]}"
+            + (" ..." if len(missing) > 10 else "")
+        )
+    if len(set(dmap)) != len(dmap):
+        raise FEModelError("the DOF map names the same node and component twice")
+
+
+def _checked_matrices(K: sp.spmatrix, M: sp.spmatrix,
+                      dmap: list[tuple[int, int]]) -> tuple[sp.csc_matrix, sp.csc_matrix]:
+    """Check K and M against the DOF map: size, symmetry, signs of the diagonals, empty rows.
+
+    Parameters
+    ----------
+    K, M : matrix
+        Stiffness and mass (file units).
+    dmap : list of (node id, component 0–5)
+        Node and component of each matrix row.
+
+    Returns
+    -------
+    K, M : scipy.sparse.csc_matrix
+        The checked matrices (units unchanged).
+    """
+    n = len(dmap)
+    K = _check_matrix(K, "stiffness", n)
+    M = _check_matrix(M, "mass", n)
+    if np.any(M.diagonal() < 0):
+        bad = int(np.argmin(M.diagonal()))
+        raise FEModelError(
+            f"negative mass on the diagonal of M (row {bad}: node {dmap[bad][0]}, "
+            f"component {dmap[bad][1] + 1})"
+        )
+    if np.any(K.diagonal() < 0):
+        raise FEModelError("negative stiffness on the diagonal of K")
+    _check_no_empty_rows(K, dmap)
+    return K, M
+
+
+def _mm_t_s_to_si(xyz: np.ndarray, K: sp.csc_matrix, M: sp.csc_matrix,
+                  dmap: list[tuple[int, int]]) -> tuple[np.ndarray, sp.csc_matrix, sp.csc_matrix]:
+    """Convert nodes (mm → m), K (N/mm, N·mm/rad → N/m, N·m/rad) and M (t → kg) to SI.
+
+    Parameters
+    ----------
+    xyz : numpy.ndarray
+        Node coordinates (mm).
+    K, M : scipy.sparse matrix
+        Stiffness and mass in the mm-t-s system.
+    dmap : list of (node id, component 0–5)
+        Node and component of each matrix row (translations 0–2 scale, rotations do not).
+
+    Returns
+    -------
+    xyz : numpy.ndarray
+        Node coordinates (m).
+    K, M : scipy.sparse.csc_matrix
+        Stiffness and mass in SI units.
+    """
+    xyz = xyz * 1e-3
+    d = np.array([1e3 if c < 3 else 1.0 for _, c in dmap])
+    D = sp.diags(d)
+    K = (1e-3 * (D @ K @ D)).tocsc()
+    M = (1e-3 * (D @ M @ D)).tocsc()
+    return xyz, K, M
+
+
+def _named_nodes(attachments: Mapping[str, int] | None, outputs: Mapping[str, int] | None,
+                 pos: dict[int, int]) -> dict[str, int]:
+    """Node indices of the named attachment and output nodes.
+
+    Parameters
+    ----------
+    attachments, outputs : dict of str to int or None
+        Named node ids.
+    pos : dict of int to int
+        Index of each node id in the node list.
+
+    Returns
+    -------
+    dict of str to int
+        Node index of each name (outputs after attachments; a repeated name keeps the last).
+    """
+    named: dict[str, int] = {}
+    for label, group in (("attachment", attachments), ("output", outputs)):
+        for key, nid in (group or {}).items():
+            if int(nid) not in pos:
+                raise FEModelError(f"{label} node {key!r} = {nid} is not in the node list")
+            named[key] = pos[int(nid)]
+    return named
 
 
 def _check_no_empty_rows(K: sp.csc_matrix, dmap: list[tuple[int, int]]) -> None:

@@ -148,17 +148,8 @@ def reduced_to_modal_body(
     f_el, q = _elastic_modes(K, M, R, Mrr, f_max, n_modes)
     full = q if recovery is None else recovery @ q
     shapes = np.asarray(full).reshape(nodes_xyz.shape[0], 6, -1)
-    zeta = modal_damping_ratios(damping, f_el)
-    body = ModalBody(
-        name=name,
-        mass=props.mass,
-        inertia=np.diag(props.inertia).copy(),
-        x_ref=float(x_ref),
-        cg_height=float(props.cg[2]),
-        elastic_frequencies=f_el.copy(),
-        elastic_damping=zeta,
-        elastic_shapes={k: shapes[v].copy() for k, v in (markers or {}).items()},
-    )
+    body = _modal_body(name, props, f_el, modal_damping_ratios(damping, f_el), shapes, x_ref,
+                       markers)
     return BodyModes(
         body=body,
         nodes=nodes_xyz,
@@ -167,6 +158,44 @@ def reduced_to_modal_body(
         rigid_frequencies=np.zeros(6),
         reduced_modes=q,
         node_names=dict(markers or {}),
+    )
+
+
+def _modal_body(name: str, props: MassProperties, f_el: np.ndarray, zeta: np.ndarray,
+                shapes: np.ndarray, x_ref: float, markers: dict[str, int] | None) -> ModalBody:
+    """The :class:`~flexride.bodies.ModalBody` of the diagonalised model.
+
+    Parameters
+    ----------
+    name : str
+        Body name.
+    props : MassProperties
+        Mass (kg), CG (m) and inertia tensor about the CG (kg·m²); the diagonal is kept.
+    f_el : numpy.ndarray
+        Elastic eigenfrequencies (Hz).
+    zeta : numpy.ndarray
+        Modal damping ratios of the elastic modes (-).
+    shapes : numpy.ndarray
+        (n_nodes, 6, n_modes) nodal elastic shapes (m and rad per unit modal coordinate).
+    x_ref : float
+        Position of the body's reference frame along the vehicle (m).
+    markers : dict of str to int, optional
+        Named nodes whose shapes go into ``elastic_shapes``.
+
+    Returns
+    -------
+    ModalBody
+        The body, with copies of the frequencies and marker shapes.
+    """
+    return ModalBody(
+        name=name,
+        mass=props.mass,
+        inertia=np.diag(props.inertia).copy(),
+        x_ref=float(x_ref),
+        cg_height=float(props.cg[2]),
+        elastic_frequencies=f_el.copy(),
+        elastic_damping=zeta,
+        elastic_shapes={k: shapes[v].copy() for k, v in (markers or {}).items()},
     )
 
 

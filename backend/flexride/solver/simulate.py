@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -135,6 +136,216 @@ def convected_rail_velocity(asm: Assembly, X0: np.ndarray) -> np.ndarray:
     return V0
 
 
+@dataclass
+class _Workspace:
+    """State and scratch arrays of one run, in the argument order of :func:`run_chunk`.
+
+    Units follow the DOF vector: X in m or rad, V in m/s or rad/s, A in m/s² or rad/s²,
+    F in N or N·m; the recording buffers hold the channels in their own units, time in s and
+    distance in m.
+    """
+
+    X: np.ndarray
+    V: np.ndarray
+    A: np.ndarray
+    Ap: np.ndarray
+    F: np.ndarray
+    aux: np.ndarray
+    sn: np.ndarray
+    cst: np.ndarray
+    facc: np.ndarray
+    ptv: np.ndarray
+    pscr: np.ndarray
+    X_ref: np.ndarray
+    u: np.ndarray
+    q: np.ndarray
+    tstate: np.ndarray
+    rec: np.ndarray
+    rec_t: np.ndarray
+    rec_s: np.ndarray
+    info: np.ndarray
+
+
+def _workspace(asm: Assembly, X0: np.ndarray, V0: np.ndarray, X_ref: np.ndarray,
+               s_win0: float) -> _Workspace:
+    """Allocate the run's arrays, starting from (X0, V0) with the rail window at ``s_win0``.
+
+    Parameters
+    ----------
+    asm : Assembly
+        Assembled model (sizes of the DOF vector, wheels, rail modes, points and channels).
+    X0, V0 : numpy.ndarray
+        Initial displacements (m, rad) and velocities (m/s, rad/s); copied.
+    X_ref : numpy.ndarray
+        Reference displacements (m, rad) for the displacement channels and runaway checks.
+    s_win0 : float
+        Start of the rail window at t = 0 (m).
+
+    Returns
+    -------
+    _Workspace
+        Zeroed scratch arrays and recording buffers for ``asm.n_steps // n_dec`` records.
+    """
+    sysarr = asm.sys
+    n = X0.shape[0]
+    nw = sysarr.ws_body.shape[0]
+    nm = sysarr.rail_kap.shape[0]
+    npnt = sysarr.pt_body.shape[0]
+    tstate = np.zeros(S.N_TSTATE)
+    tstate[S.T_WIN_S0] = s_win0
+    n_rec = asm.n_steps // sysarr.par.n_dec
+    nch = len(asm.channel_names)
+    return _Workspace(
+        X=X0.copy(),
+        V=V0.copy(),
+        A=np.zeros(n),
+        Ap=np.zeros(n),
+        F=np.zeros(n),
+        aux=np.zeros((nw, 2, S.N_AUX)),
+        sn=np.zeros(nm),
+        cst=np.zeros((nw, 2, S.N_CST)),
+        facc=np.zeros((nw, 2, S.N_FACC)),
+        ptv=np.zeros((npnt, 2)),
+        pscr=np.zeros((npnt, 2)),
+        X_ref=X_ref,
+        u=np.zeros(nm),
+        q=np.zeros(nm),
+        tstate=tstate,
+        rec=np.zeros((n_rec, nch)),
+        rec_t=np.zeros(n_rec),
+        rec_s=np.zeros(n_rec),
+        info=np.zeros(2, dtype=np.int64),
+    )
+
+
+def _check_status(status: int, asm: Assembly, scenario: Scenario, ws: _Workspace) -> None:
+    """Raise :class:`~flexride.errors.SimulationError` for a diverged or failed chunk.
+
+    Parameters
+    ----------
+    status : int
+        Status returned by :func:`run_chunk`.
+    asm : Assembly
+        Assembled model (DOF names for the message).
+    scenario : Scenario
+        The scenario (runaway limit in m for the message).
+    ws : _Workspace
+        The run's arrays (time in s and offending DOF index).
+    """
+    tstate = ws.tstate
+    if status in (STATUS_NONFINITE, STATUS_RUNAWAY):
+        what = asm.dof_names[int(ws.info[0])]
+        kind = (
+            "became NaN or infinite"
+            if status == STATUS_NONFINITE
+            else (
+                f"exceeded {scenario.solver.runaway_displacement_m:g} m from static equilibrium"
+            )
+        )
+        raise SimulationError(
+            f"the run diverged at t = {tstate[S.T_TIME]:.4f} s: coordinate {what} {kind}; "
+            f"try a smaller solver.dt or check the parameters"
+        )
+    if status not in (STATUS_OK, STATUS_FULL):
+        raise SimulationError(f"kernel returned unknown status {status}")
+
+
+def _run_chunks(asm: Assembly, scenario: Scenario, ws: _Workspace, report: ProgressCallback,
+                cancel: CancelCallback | None) -> int:
+    """Step the kernel in chunks of ``solver.progress_every_steps`` until the run is done.
+
+    Parameters
+    ----------
+    asm : Assembly
+        Assembled model.
+    scenario : Scenario
+        The scenario (chunk size, duration in s).
+    ws : _Workspace
+        The run's arrays, advanced in place.
+    report : callable(fraction, message)
+        Progress callback, called after every chunk.
+    cancel : callable() -> bool, optional
+        Polled after every chunk.
+
+    Returns
+    -------
+    int
+        Number of time steps done.
+    """
+    chunk = int(scenario.solver.progress_every_steps)
+    done = 0
+    tstate = ws.tstate
+    while done < asm.n_steps:
+        steps = min(chunk, asm.n_steps - done)
+        status = run_chunk(
+            asm.sys,
+            ws.X,
+            ws.V,
+            ws.A,
+            ws.Ap,
+            ws.F,
+            ws.aux,
+            ws.sn,
+            ws.cst,
+            ws.facc,
+            ws.ptv,
+            ws.pscr,
+            ws.X_ref,
+            ws.u,
+            ws.q,
+            tstate,
+            steps,
+            ws.rec,
+            ws.rec_t,
+            ws.rec_s,
+            ws.info,
+        )
+        done = int(tstate[S.T_STEP])
+        _check_status(status, asm, scenario, ws)
+        frac = done / asm.n_steps
+        report(frac, f"t = {tstate[S.T_TIME]:.2f} s of {scenario.duration:.2f} s")
+        if cancel is not None and cancel():
+            raise SimulationCancelled(f"cancelled at t = {tstate[S.T_TIME]:.3f} s")
+        if status == STATUS_FULL:
+            break
+    return done
+
+
+def _collect(asm: Assembly, scenario: Scenario, ws: _Workspace, meta: dict) -> Results:
+    """Package the recorded channels of a finished run.
+
+    Parameters
+    ----------
+    asm : Assembly
+        Assembled model (channel names and units, recorded points).
+    scenario : Scenario
+        The scenario (stored with the results).
+    ws : _Workspace
+        The run's arrays after the last chunk.
+    meta : dict
+        Run metadata (see :func:`integrate`).
+
+    Returns
+    -------
+    Results
+        The first ``T_NREC`` records: time (s), distance (m) and every channel.
+    """
+    k = int(ws.tstate[S.T_NREC])
+    channels = {
+        name: np.ascontiguousarray(ws.rec[:k, i]) for i, name in enumerate(asm.channel_names)
+    }
+    units = dict(zip(asm.channel_names, asm.channel_units, strict=True))
+    return Results(
+        time=ws.rec_t[:k].copy(),
+        distance=ws.rec_s[:k].copy(),
+        channels=channels,
+        units=units,
+        scenario=scenario.model_dump(mode="json"),
+        meta=meta,
+        points=[p.to_dict() for p in asm.vehicle.recorded],
+    )
+
+
 def integrate(
     asm: Assembly,
     X0: np.ndarray,
@@ -155,106 +366,29 @@ def integrate(
     """
     t_start = time.perf_counter() if t_start is None else t_start
     t_ready = time.perf_counter() if t_ready is None else t_ready
-    sysarr = asm.sys
     s_win0 = initial_window_start(asm, 0.0)
     X_ref = X0.copy() if X_ref is None else X_ref
-    n = X0.shape[0]
-    X = X0.copy()
-    V = V0.copy()
-    F = np.zeros(n)
-    A = np.zeros(n)
-    Ap = np.zeros(n)
-    nw = sysarr.ws_body.shape[0]
-    nm = sysarr.rail_kap.shape[0]
-    npnt = sysarr.pt_body.shape[0]
-    aux = np.zeros((nw, 2, S.N_AUX))
-    sn = np.zeros(nm)
-    facc = np.zeros((nw, 2, S.N_FACC))
-    cst = np.zeros((nw, 2, S.N_CST))
-    ptv = np.zeros((npnt, 2))
-    pscr = np.zeros((npnt, 2))
-    u = np.zeros(nm)
-    q = np.zeros(nm)
-    info = np.zeros(2, dtype=np.int64)
-    tstate = np.zeros(S.N_TSTATE)
-    tstate[S.T_WIN_S0] = s_win0
-    ndec = sysarr.par.n_dec
-    n_rec = asm.n_steps // ndec
-    nch = len(asm.channel_names)
-    rec = np.zeros((n_rec, nch))
-    rec_t = np.zeros(n_rec)
-    rec_s = np.zeros(n_rec)
+    ws = _workspace(asm, X0, V0, X_ref, s_win0)
 
     from flexride.solver.forces import evaluate
 
-    evaluate(sysarr, X, V, 0.0, s_win0, F, A, aux, sn, cst, 0.0)
-    chunk = int(scenario.solver.progress_every_steps)
-    done = 0
+    evaluate(asm.sys, ws.X, ws.V, 0.0, s_win0, ws.F, ws.A, ws.aux, ws.sn, ws.cst, 0.0)
     t_loop = time.perf_counter()
     cpu_loop = time.process_time()
-    while done < asm.n_steps:
-        steps = min(chunk, asm.n_steps - done)
-        status = run_chunk(
-            sysarr,
-            X,
-            V,
-            A,
-            Ap,
-            F,
-            aux,
-            sn,
-            cst,
-            facc,
-            ptv,
-            pscr,
-            X_ref,
-            u,
-            q,
-            tstate,
-            steps,
-            rec,
-            rec_t,
-            rec_s,
-            info,
-        )
-        done = int(tstate[S.T_STEP])
-        if status in (STATUS_NONFINITE, STATUS_RUNAWAY):
-            what = asm.dof_names[int(info[0])]
-            kind = (
-                "became NaN or infinite"
-                if status == STATUS_NONFINITE
-                else (
-                    f"exceeded {scenario.solver.runaway_displacement_m:g} m from static equilibrium"
-                )
-            )
-            raise SimulationError(
-                f"the run diverged at t = {tstate[S.T_TIME]:.4f} s: coordinate {what} {kind}; "
-                f"try a smaller solver.dt or check the parameters"
-            )
-        if status not in (STATUS_OK, STATUS_FULL):
-            raise SimulationError(f"kernel returned unknown status {status}")
-        frac = done / asm.n_steps
-        report(frac, f"t = {tstate[S.T_TIME]:.2f} s of {scenario.duration:.2f} s")
-        if cancel is not None and cancel():
-            raise SimulationCancelled(f"cancelled at t = {tstate[S.T_TIME]:.3f} s")
-        if status == STATUS_FULL:
-            break
+    done = _run_chunks(asm, scenario, ws, report, cancel)
     t_end = time.perf_counter()
     cpu_end = time.process_time()
     if final_state is not None:
-        final_state["X"] = X.copy()
-        final_state["V"] = V.copy()
-    k = int(tstate[S.T_NREC])
-    channels = {name: np.ascontiguousarray(rec[:k, i]) for i, name in enumerate(asm.channel_names)}
-    units = dict(zip(asm.channel_names, asm.channel_units, strict=True))
+        final_state["X"] = ws.X.copy()
+        final_state["V"] = ws.V.copy()
     meta = {
         "speed_mps": scenario.speed_mps,
         "speed_kmh": scenario.speed_kmh,
         "dt": scenario.solver.dt,
         "output_rate": asm.output_rate,
         "n_steps": done,
-        "n_dof": int(n),
-        "rail_modes_per_direction": int(nm),
+        "n_dof": int(X0.shape[0]),
+        "rail_modes_per_direction": int(asm.sys.rail_kap.shape[0]),
         "rail_window_m": float(asm.rail.length),
         "static_wheel_loads": _static_wheel_loads(asm, X_ref, s_win0),
         "stability": stab,
@@ -264,12 +398,4 @@ def integrate(
         "output_points": [p[0] for p in asm.vehicle.points if p[1] == 0],
     }
     report(1.0, "done")
-    return Results(
-        time=rec_t[:k].copy(),
-        distance=rec_s[:k].copy(),
-        channels=channels,
-        units=units,
-        scenario=scenario.model_dump(mode="json"),
-        meta=meta,
-        points=[p.to_dict() for p in asm.vehicle.recorded],
-    )
+    return _collect(asm, scenario, ws, meta)

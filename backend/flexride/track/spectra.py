@@ -54,6 +54,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from functools import partial
+from typing import NamedTuple
 
 import numpy as np
 from scipy import fft as sp_fft
@@ -316,6 +317,50 @@ def random_profile(
     """
     key = _level_key(spectrum_level)
     comps = list(components)
+    _check_random_args(comps, wavelength_min_m, wavelength_max_m, seed, half_gauge, fade_in_m)
+    if ds is None:
+        ds = wavelength_min_m / POINTS_PER_WAVELENGTH
+    check_step(ds, wavelength_min_m, "shortest random")
+    n = n_points(length_m, ds)
+    grid = _synthesis_grid(n, ds, wavelength_min_m, wavelength_max_m)
+
+    children = np.random.SeedSequence(seed).spawn(len(IRREGULARITY_COMPONENTS))
+    series: dict[str, np.ndarray] = {}
+    for idx, comp in enumerate(IRREGULARITY_COMPONENTS):
+        if comp not in comps:
+            series[comp] = np.zeros(n)
+            continue
+        psd = partial(german_psd, component=comp, level=key, half_gauge=half_gauge)
+        series[comp] = _component_series(grid, n, psd, scale, np.random.default_rng(children[idx]))
+
+    b = half_gauge
+    zv, ya = series["vertical"], series["alignment"]
+    cl, g = series["cross_level"], series["gauge"]
+    prof = IrregularityProfile(0.0, ds, zv + b * cl, zv - b * cl, ya + 0.5 * g, ya - 0.5 * g)
+    if fade_in_m > 0.0:
+        w = fade_in_weight(prof.s, fade_in_m)
+        for rail in prof.rails():
+            rail *= w
+    return prof
+
+
+def _check_random_args(comps: list[str], wavelength_min_m: float, wavelength_max_m: float,
+                       seed: int, half_gauge: float, fade_in_m: float) -> None:
+    """Reject the arguments of :func:`random_profile` that make no realisation.
+
+    Parameters
+    ----------
+    comps : list of str
+        Requested components.
+    wavelength_min_m, wavelength_max_m : float
+        Wavelength band (m).
+    seed : int
+        Seed (≥ 0).
+    half_gauge : float
+        Half distance between rail centres (m).
+    fade_in_m : float
+        Fade-in length (m).
+    """
     for name in comps:
         if name not in IRREGULARITY_COMPONENTS:
             raise ScenarioError(
@@ -333,10 +378,40 @@ def random_profile(
         raise ScenarioError(f"half_gauge must be > 0 m, got {half_gauge}")
     if not (math.isfinite(fade_in_m) and fade_in_m >= 0.0):
         raise ScenarioError(f"fade_in_m must be a finite length >= 0 m, got {fade_in_m}")
-    if ds is None:
-        ds = wavelength_min_m / POINTS_PER_WAVELENGTH
-    check_step(ds, wavelength_min_m, "shortest random")
-    n = n_points(length_m, ds)
+
+
+class _SynthesisGrid(NamedTuple):
+    """Frequency grid of the random synthesis (see :func:`_synthesis_grid`)."""
+
+    n_syn: int
+    d_omega: float
+    omega_k: np.ndarray
+    om_lo: float
+    om_hi: float
+    band: slice
+    k_hi: int
+
+
+def _synthesis_grid(n: int, ds: float, wavelength_min_m: float,
+                    wavelength_max_m: float) -> _SynthesisGrid:
+    """Spectral lines of an inverse FFT covering ``n`` points and ``_MIN_PERIODS`` λ_max.
+
+    Parameters
+    ----------
+    n : int
+        Number of output points.
+    ds : float
+        Grid step (m).
+    wavelength_min_m, wavelength_max_m : float
+        Wavelength band (m).
+
+    Returns
+    -------
+    _SynthesisGrid
+        ``n_syn`` (FFT length), ``d_omega`` (line spacing, rad/m), ``omega_k`` (all lines,
+        rad/m), ``om_lo``/``om_hi`` (band edges, rad/m), ``band`` (slice of the lines in the
+        band) and ``k_hi`` (its last line).
+    """
     n_syn = sp_fft.next_fast_len(max(n, math.ceil(_MIN_PERIODS * wavelength_max_m / ds)), real=True)
     period = n_syn * ds
     d_omega = 2.0 * math.pi / period
@@ -346,44 +421,44 @@ def random_profile(
     om_hi = min(2.0 * math.pi / wavelength_min_m, math.pi / ds)
     k_lo = max(1, math.floor(om_lo / d_omega - 0.5))
     k_hi = min(n_syn // 2, math.ceil(om_hi / d_omega + 0.5))
-    band = slice(k_lo, k_hi + 1)
-    nyquist = n_syn % 2 == 0
+    return _SynthesisGrid(n_syn, d_omega, omega_k, om_lo, om_hi, slice(k_lo, k_hi + 1), k_hi)
 
-    children = np.random.SeedSequence(seed).spawn(len(IRREGULARITY_COMPONENTS))
-    series: dict[str, np.ndarray] = {}
-    for idx, comp in enumerate(IRREGULARITY_COMPONENTS):
-        if comp not in comps:
-            series[comp] = np.zeros(n)
-            continue
-        rng = np.random.default_rng(children[idx])
-        energy = _bin_energies(
-            omega_k[band],
-            d_omega,
-            om_lo,
-            om_hi,
-            partial(german_psd, component=comp, level=key, half_gauge=half_gauge),
-        )
-        std = np.sqrt(energy) * scale
-        m = std.size
-        coeff = np.zeros(n_syn // 2 + 1, dtype=complex)
-        # x[j] = Σ_k a_k cos(Ω_k s_j) + b_k sin(Ω_k s_j), a_k, b_k ~ N(0, E_k):
-        # irfft gives (2/N)·Re(c_k e^{iΩ_k s}) per line, so c_k = (N/2)(a_k − i b_k).
-        gauss = rng.standard_normal((2, m))
-        coeff[band] = 0.5 * n_syn * std * (gauss[0] - 1j * gauss[1])
-        if nyquist and k_hi == n_syn // 2:
-            # the Nyquist line is real and enters once: c = N·a, a ~ N(0, E)
-            coeff[-1] = n_syn * std[-1] * gauss[0, -1]
-        series[comp] = sp_fft.irfft(coeff, n=n_syn)[:n]
 
-    b = half_gauge
-    zv, ya = series["vertical"], series["alignment"]
-    cl, g = series["cross_level"], series["gauge"]
-    prof = IrregularityProfile(0.0, ds, zv + b * cl, zv - b * cl, ya + 0.5 * g, ya - 0.5 * g)
-    if fade_in_m > 0.0:
-        w = fade_in_weight(prof.s, fade_in_m)
-        for rail in prof.rails():
-            rail *= w
-    return prof
+def _component_series(grid: _SynthesisGrid, n: int, psd: Callable[[np.ndarray], np.ndarray],
+                      scale: float, rng: np.random.Generator) -> np.ndarray:
+    """One stationary Gaussian component by inverse FFT of random spectral lines.
+
+    Parameters
+    ----------
+    grid : _SynthesisGrid
+        Frequency grid.
+    n : int
+        Number of output points.
+    psd : callable(Ω) -> PSD
+        One-sided PSD (m²/(rad/m) or rad²/(rad/m)) of the angular wavenumber Ω (rad/m).
+    scale : float
+        Amplitude factor (-).
+    rng : numpy.random.Generator
+        The component's own random stream.
+
+    Returns
+    -------
+    numpy.ndarray
+        The first ``n`` samples (m, or rad for cross level).
+    """
+    n_syn, band = grid.n_syn, grid.band
+    energy = _bin_energies(grid.omega_k[band], grid.d_omega, grid.om_lo, grid.om_hi, psd)
+    std = np.sqrt(energy) * scale
+    m = std.size
+    coeff = np.zeros(n_syn // 2 + 1, dtype=complex)
+    # x[j] = Σ_k a_k cos(Ω_k s_j) + b_k sin(Ω_k s_j), a_k, b_k ~ N(0, E_k):
+    # irfft gives (2/N)·Re(c_k e^{iΩ_k s}) per line, so c_k = (N/2)(a_k − i b_k).
+    gauss = rng.standard_normal((2, m))
+    coeff[band] = 0.5 * n_syn * std * (gauss[0] - 1j * gauss[1])
+    if n_syn % 2 == 0 and grid.k_hi == n_syn // 2:
+        # the Nyquist line is real and enters once: c = N·a, a ~ N(0, E)
+        coeff[-1] = n_syn * std[-1] * gauss[0, -1]
+    return sp_fft.irfft(coeff, n=n_syn)[:n]
 
 
 def fade_in_weight(s: np.ndarray, fade_in_m: float = RANDOM_FADE_IN_M) -> np.ndarray:
