@@ -24,6 +24,7 @@ from rich import box
 from rich.console import Console
 from rich.table import Table
 
+from flexride.contact.placement import Placement
 from flexride.errors import FlexrideError, ScenarioError
 
 contact_app = typer.Typer(
@@ -45,6 +46,13 @@ FlangeBackOpt = Annotated[
     float, typer.Option("--flange-back-mm", help="Flange-back distance of the wheelset (mm).")
 ]
 R0Opt = Annotated[float, typer.Option("--r0-mm", help="Nominal rolling radius (mm).")]
+
+_PLACE = Placement()
+"""The default placement (EN: 1435 mm at 14 mm, flange backs 1360 mm, r0 460 mm), in mm."""
+GAUGE_MM = round(_PLACE.gauge * 1000.0, 6)
+GAUGE_HEIGHT_MM = round(_PLACE.gauge_height * 1000.0, 6)
+FLANGE_BACK_MM = round(_PLACE.flange_back * 1000.0, 6)
+R0_MM = round(_PLACE.r0 * 1000.0, 6)
 RollOpt = Annotated[
     bool,
     typer.Option("--roll/--no-roll",
@@ -116,10 +124,10 @@ def conicity_cmd(
     wheel: WheelOpt = "s1002",
     rail: RailOpt = "60e1",
     inclination: InclOpt = "1:40",
-    gauge_mm: GaugeOpt = 1435.0,
-    gauge_height_mm: GaugeHOpt = 14.0,
-    flange_back_mm: FlangeBackOpt = 1360.0,
-    r0_mm: R0Opt = 460.0,
+    gauge_mm: GaugeOpt = GAUGE_MM,
+    gauge_height_mm: GaugeHOpt = GAUGE_HEIGHT_MM,
+    flange_back_mm: FlangeBackOpt = FLANGE_BACK_MM,
+    r0_mm: R0Opt = R0_MM,
     roll: RollOpt = True,
     delta_r: Annotated[
         Path | None,
@@ -258,10 +266,10 @@ def table_cmd(
     wheel: WheelOpt = "s1002",
     rail: RailOpt = "60e1",
     inclination: InclOpt = "1:40",
-    gauge_mm: GaugeOpt = 1435.0,
-    gauge_height_mm: GaugeHOpt = 14.0,
-    flange_back_mm: FlangeBackOpt = 1360.0,
-    r0_mm: R0Opt = 460.0,
+    gauge_mm: GaugeOpt = GAUGE_MM,
+    gauge_height_mm: GaugeHOpt = GAUGE_HEIGHT_MM,
+    flange_back_mm: FlangeBackOpt = FLANGE_BACK_MM,
+    r0_mm: R0Opt = R0_MM,
     roll: RollOpt = True,
     y_max_mm: YMaxOpt = 12.0,
     step_mm: StepOpt = 0.05,

@@ -6,7 +6,11 @@ from typing import Literal, Self
 
 from pydantic import Field, model_validator
 
+from flexride.contact.placement import Placement
 from flexride.scenario.base import Schema, quantity
+
+_PLACEMENT = Placement()
+"""Default wheel–rail placement (the one source of gauge and gauge height defaults)."""
 
 BUILTIN_WHEELS = ("s1002",)
 """Built-in wheel profiles (:mod:`flexride.contact.profiles`)."""
@@ -110,10 +114,11 @@ class Contact(Schema):
         "1:40", description="Profiles geometry: rail inclination toward the track centre "
         "('none' for a rail file that is already canted) (-)")
     gauge: float = quantity(
-        1.435, ge=1.0, le=1.7, description="Profiles geometry: track gauge", unit="m")
+        _PLACEMENT.gauge, ge=1.0, le=1.7, description="Profiles geometry: track gauge", unit="m")
     gauge_height: float = quantity(
-        0.014, ge=0.005, le=0.02, description="Profiles geometry: height below the top of rail "
-        "where the gauge is measured (14 mm Europe, 16 mm China)", unit="m")
+        _PLACEMENT.gauge_height, ge=0.005, le=0.02,
+        description="Profiles geometry: height below the top of rail where the gauge is "
+        "measured (14 mm Europe, 16 mm China)", unit="m")
     flange_back_distance: float | None = quantity(
         None, ge=0.9, le=1.6, description="Profiles geometry: distance between the flange backs "
         "of a wheelset; default 2·(rolling-circle half distance − 70 mm) of the vehicle, so that "
