@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import preset
+from conftest import PROFILES_DT, preset
 from flexride.solver.simulate import simulate
 
 
@@ -18,11 +18,6 @@ def test_halving_the_step_changes_carbody_rms_by_less_than_one_percent():
         ra = np.sqrt(np.mean(a.channels[ch] ** 2))
         rb = np.sqrt(np.mean(b.channels[ch] ** 2))
         assert ra == pytest.approx(rb, rel=0.01), ch
-
-
-PROFILES_DT = 6.25e-5
-"""The step runs with real profiles need (docs/model.md: the explicit limit is 1.0e-4 s, and
-the lateral rms at 1e-4 s is 4 % off the converged value)."""
 
 
 def test_profiles_at_their_step_are_converged():

@@ -44,18 +44,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import preset
+from conftest import PROFILES, preset
 from flexride.bodies import ModalBody
 from flexride.solver.assemble import assemble
 from flexride.solver.forces import evaluate
 from flexride.solver.static import initial_window_start
 from flexride.solver.system import AUX_ANGLE, AUX_N, AUX_N_FLANGE, N_AUX
 from flexride.vehicle.topology import build_vehicle
-
-#: Real profiles as a run with them is set up: S1002/60E1 at 1:40 with the EN flange-back
-#: distance and the step their stiffer contact needs (docs/model.md)
-PROFILES = {"contact__geometry": "profiles", "contact__flange_back_distance": 1.36,
-            "solver__dt": 6.25e-5}
 
 G_ACC = 9.81  # m/s², the model's gravity
 TRACTION_HZ = 0.05  # docs/model.md: soft longitudinal link

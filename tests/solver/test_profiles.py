@@ -8,16 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import preset
+from conftest import PROFILES, preset
 from flexride.contact.conicity import equivalent_conicity
 from flexride.solver.assemble import assemble
 from flexride.solver.simulate import integrate, simulate
 from flexride.solver.static import initial_window_start, static_equilibrium
-
-#: Real profiles as a run with them is set up: S1002/60E1 at 1:40 with the EN flange-back
-#: distance and the step their stiffer contact needs (docs/model.md)
-PROFILES = {"contact__geometry": "profiles", "contact__flange_back_distance": 1.36,
-            "solver__dt": 6.25e-5}
 
 
 def _crossings(s, y):
