@@ -253,5 +253,28 @@ def test_list_and_cached_results_read_only_small_columns(client):
         stop()
     big = re.compile(r"flexride_jobs\.(scenario|summary)\b")
     assert len(listing) == 2 and not any(big.search(s) for s in listing), listing
-    # a cached answer: one query of the result file column, nothing else
-    assert len(check) == 1 and re.search(r"SELECT flexride_jobs\.result_file\s+FROM", check[0])
+    # a cached answer of a job whose file was seen: no query at all (its file is checked)
+    assert check == []
+
+
+def test_first_answer_of_a_job_checks_its_record(client):
+    svc = services(client)
+    job_id = insert_finished_job(svc.store, svc.files, synthetic_results(duration=4.0))
+    seen, stop = _statements(svc.store.engine)
+    try:
+        assert client.get(f"{API}/jobs/{job_id}/summary").status_code == 200
+    finally:
+        stop()
+    assert re.search(r"SELECT flexride_jobs\.result_file\s+FROM", seen[0]), seen
+
+
+def test_a_vanished_file_sends_the_request_to_the_database(finished):
+    client, svc, job_id = finished
+    assert client.get(f"{API}/jobs/{job_id}/summary").status_code == 200
+    path = svc.files.path(svc.store.get_job(job_id).result_file)
+    aside = path.with_name(".deleting-" + path.name)
+    os.replace(path, aside)  # as a deletion in another process does before it deletes
+    r = client.get(f"{API}/jobs/{job_id}/summary")
+    assert r.status_code == 404 and "not found" in r.json()["detail"]
+    os.replace(aside, path)  # the deletion failed and put it back
+    assert client.get(f"{API}/jobs/{job_id}/summary").status_code == 200

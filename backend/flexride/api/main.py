@@ -19,6 +19,7 @@ from pathlib import Path
 
 import anyio.to_thread
 from fastapi import FastAPI, Request
+from fastapi.datastructures import Default
 from fastapi.middleware.gzip import GZipMiddleware
 from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
 from fastapi.responses import FileResponse, HTMLResponse, RedirectResponse
@@ -230,7 +231,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         docs_url=None,  # served by _docs, without a CDN
         redoc_url=None,
         openapi_tags=TAGS,
-        default_response_class=SafeJSONResponse,
+        # a placeholder keeps FastAPI's fast path (Pydantic writes the JSON, non-finite
+        # floats as null) for routes with a response model; SafeJSONResponse for the rest
+        default_response_class=Default(SafeJSONResponse),
         lifespan=lifespan,
     )
     app.state.services = services

@@ -17,6 +17,7 @@ from typing import Any, cast
 from sqlalchemy import CursorResult, Engine, Result, delete, func, select, text, update
 from sqlalchemy.orm import Session, defer, sessionmaker, undefer
 
+from flexride.store.data_version import DataVersion
 from flexride.store.db import get_engine, init_db, writer
 from flexride.store.models import FINAL_STATUSES, Job, Study, WorkerSeen
 
@@ -82,6 +83,7 @@ class JobStore:
         self.engine = engine
         self._read = sessionmaker(engine, expire_on_commit=False)
         self._write = sessionmaker(writer(engine), expire_on_commit=False)
+        self._version = DataVersion(engine)
 
     @classmethod
     def from_url(cls, url: str, *, create: bool = True) -> JobStore:
@@ -90,6 +92,12 @@ class JobStore:
         if create:
             init_db(engine)
         return cls(engine)
+
+    def data_version(self) -> int | None:
+        """A number that changes whenever anyone commits a change to the database, or None
+        when the database cannot tell (see :mod:`flexride.store.data_version`).
+        """
+        return self._version.current()
 
     # -- sessions ---------------------------------------------------------------------------
 

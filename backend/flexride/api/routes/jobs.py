@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Path, Query, Response
+from fastapi import APIRouter, Path, Query, Request, Response
 
 from flexride.api.deps import AUTH, ServicesDep
 from flexride.api.schemas import JobCreate, JobList, JobOut, JobStatus, JobSubmitted
 from flexride.api.services import jobs as svc_jobs
+from flexride.api.services.record_cache import cached_record
 
 router = APIRouter(prefix="/jobs", tags=["jobs"])
 
@@ -45,6 +46,7 @@ def validate_job(body: JobCreate, svc: ServicesDep) -> dict[str, Any]:
 
 @router.get("", response_model=JobList, summary="List jobs")
 def list_jobs(
+    request: Request,
     svc: ServicesDep,
     status: Annotated[JobStatus | None, Query(description="Only jobs in this state")] = None,
     study_id: Annotated[str | None, Query(max_length=64, description="Only this study")] = None,
@@ -53,17 +55,19 @@ def list_jobs(
         "FE exports for GET /fe) or all")] = "simulation",
     limit: Annotated[int, Query(ge=1, le=500)] = 50,
     offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
-) -> dict[str, Any]:
+) -> Any:
     """Jobs newest first, filtered by status, study and kind (simulations unless asked),
     a page at a time.
     """
-    return svc_jobs.list_jobs(svc, status, study_id, limit, offset, kind)
+    return cached_record(request, svc, "list", (status, study_id, kind, limit, offset),
+                         lambda: svc_jobs.list_jobs(svc, status, study_id, limit, offset, kind))
 
 
 @router.get("/{job_id}", response_model=JobOut, summary="Job detail")
-def get_job(job_id: JobId, svc: ServicesDep) -> JobOut:
+def get_job(request: Request, job_id: JobId, svc: ServicesDep) -> Any:
     """Status, progress and message, timings, attempts, error text."""
-    return svc_jobs.job_out(svc_jobs.get_job(svc, job_id), svc)
+    return cached_record(request, svc, "detail", job_id,
+                         lambda: svc_jobs.job_out(svc_jobs.get_job(svc, job_id), svc))
 
 
 @router.get("/{job_id}/scenario", response_model=dict[str, Any], summary="Scenario of a job")

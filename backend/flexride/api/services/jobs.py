@@ -11,7 +11,7 @@ from typing import Any, TypeVar
 
 from flexride.api.deps import Services
 from flexride.api.errors import Conflict, NotFound
-from flexride.api.schemas import JobCreate, JobOut, JobSubmitted
+from flexride.api.schemas import JobCreate, JobList, JobOut, JobSubmitted
 from flexride.scenario.loading import resolve_scenario
 from flexride.store import Job
 
@@ -77,13 +77,13 @@ def finished_job(svc: Services, job_id: str, *, summary: bool = False) -> Job:
 
 
 def list_jobs(svc: Services, status: str | None, study_id: str | None, limit: int,
-              offset: int, kind: str = "simulation") -> dict[str, Any]:
+              offset: int, kind: str = "simulation") -> JobList:
     """A page of jobs of one kind (``all``: every kind)."""
     items, total = svc.store.list_jobs(status=status, study_id=study_id,
                                        kind=None if kind == "all" else kind, limit=limit,
                                        offset=offset)
-    return {"items": [job_out(j, svc) for j in items], "total": total, "limit": limit,
-            "offset": offset}
+    return JobList(items=[job_out(j, svc) for j in items], total=total, limit=limit,
+                   offset=offset)
 
 
 def cancel_job(svc: Services, job_id: str) -> JobOut:

@@ -8,9 +8,14 @@ per application:
 * **key**: job id, result file name, the file's identity (device, inode, size, modification
   time; the summary, which comes from the database, has none), the endpoint and its request
   parameters (channel order included);
-* **every request** still checks the job in the database first (one query of one column,
-  :meth:`flexride.store.JobStore.result_file_of`): a deleted job is 404 and an unfinished one
-  409 before the cache is looked at, and a deleted or replaced file changes the key;
+* **every request** checks that the job still has its results before the cache is looked
+  at: the first request of a job asks the database (one query of one column,
+  :meth:`flexride.store.JobStore.result_file_of`: a deleted job is 404, an unfinished one
+  409) and remembers the file name of the finished job; later requests only check that this
+  file is still there (one ``stat``). That is enough because results never change and a
+  deletion sets the file aside before it deletes the record (:func:`flexride.api.services.
+  jobs.delete_records_and_files`), so a deleted job's file is gone first; a vanished file
+  sends the request to the database again, and a replaced one changes the key;
 * **invalidation**: :func:`forget_job` drops a job's entries (answers and file contents) at
   once; besides, at most every :data:`SWEEP_INTERVAL_S` the entries of files that were deleted
   or replaced (by any process) are dropped;
@@ -39,6 +44,7 @@ from flexride.api.errors import SafeJSONResponse
 from flexride.api.services.results import result_file
 from flexride.errors import ResultsFileError
 from flexride.store import ResultFiles
+from flexride.store.files import FileToken
 from flexride.store.lru import ByteLRU
 
 DEFAULT_MAX_BYTES = 64 * 1024 * 1024
@@ -97,11 +103,40 @@ class ResponseCache:
                  max_entries: int = DEFAULT_MAX_ENTRIES):
         self.files = files
         self.lru = ByteLRU(max_bytes, max_entries)
+        self.max_entries = max_entries
+        self._finished: dict[str, str] = {}  # job id -> result file name, in order of use
+        self._finished_lock = threading.Lock()
         self._swept = time.monotonic()
         self._sweeping = threading.Lock()
 
+    def result_file(self, svc: Services, job_id: str) -> tuple[str, FileToken]:
+        """Name and identity of the result file of finished job ``job_id``: remembered and
+        checked with one ``stat``, or read from the database (:class:`NotFound` /
+        :class:`Conflict` when the job has no results).
+        """
+        with self._finished_lock:
+            name = self._finished.get(job_id)
+        if name is not None:
+            try:
+                return name, self.files.token(name)
+            except ResultsFileError:  # deleted (or being deleted): ask the database
+                self._forget_file(job_id)
+        name = result_file(svc, job_id)
+        token = self.files.token(name)
+        with self._finished_lock:
+            self._finished.pop(job_id, None)
+            self._finished[job_id] = name
+            while len(self._finished) > self.max_entries:
+                del self._finished[next(iter(self._finished))]
+        return name, token
+
+    def _forget_file(self, job_id: str) -> None:
+        with self._finished_lock:
+            self._finished.pop(job_id, None)
+
     def forget(self, job_id: str) -> int:
         """Drop the answers and file contents of job ``job_id``; return the entries dropped."""
+        self._forget_file(job_id)
         n = self.lru.discard(lambda key: key[0] == job_id)
         return n + self.files.forget(f"{job_id}.h5")
 
@@ -232,8 +267,8 @@ def cached_answer(request: Request, svc: Services, job_id: str, endpoint: str,
     """
     cache = response_cache(svc)
     cache.sweep()
-    name = result_file(svc, job_id)
-    token = svc.files.token(name) if from_file else None
+    name, file_token = cache.result_file(svc, job_id)
+    token = file_token if from_file else None
     gz = gzip_settings(request.app)
 
     def make() -> tuple[Rendered, int]:
