@@ -4,6 +4,7 @@ commands and presets) and the curl lines of the service (against the real app)."
 from __future__ import annotations
 
 import json
+import os
 import re
 from pathlib import Path
 
@@ -109,6 +110,21 @@ def _curl(words: list[str], files: Path) -> tuple[str, str, str | bytes | None]:
     return method, url, body
 
 
+def _run_in(directory: Path, args: list[str]) -> None:
+    """Run a ``flexride`` command in-process with ``directory`` as the working directory."""
+    from typer.testing import CliRunner
+
+    from flexride.cli import app
+
+    cwd = os.getcwd()
+    os.chdir(directory)
+    try:
+        r = CliRunner().invoke(app, args)
+    finally:
+        os.chdir(cwd)
+    assert r.exit_code == 0, (args, r.output)
+
+
 def test_curl_examples_in_the_docs_run_against_the_api(tmp_path):
     """Every curl line of README.md and docs/*.md, in order, against the real app (SQLite, jobs
     recorded but not run, FE exports from a stand-in build): each answers 2xx. ``$JOB`` is a
@@ -132,7 +148,7 @@ def test_curl_examples_in_the_docs_run_against_the_api(tmp_path):
     res.scenario = load_preset("paper-metro", {"bodies.carbody.model": "flexible"}).model_dump(
         mode="json")
     finished = insert_finished_job(svc.store, svc.files, res)
-    ids: dict[str, str | None] = {"job": None, "study": None, "upload": None}
+    ids: dict[str, str | None] = {"job": None, "study": None, "upload": None, "profile": None}
     ran = 0
     with TestClient(app, raise_server_exceptions=False) as client:
         for path in DOCS:
@@ -141,11 +157,14 @@ def test_curl_examples_in_the_docs_run_against_the_api(tmp_path):
                     if words[:1] == ["printf"] and words[-2] == ">":  # a file for --data-binary
                         text = words[1].encode().decode("unicode_escape")
                         (tmp_path / words[-1]).write_text(text)
+                    if words[:3] == ["flexride", "contact", "profile"]:  # a file to upload
+                        _run_in(tmp_path, words[1:])
                     if words[0] != "curl":
                         continue
                     method, url, body = _curl(words, tmp_path)
                     if isinstance(body, str):
                         body = body.replace('"UPLOAD"', json.dumps(ids["upload"]))
+                        body = body.replace('"RAIL"', json.dumps(ids["profile"]))
                     for base in _BASE:
                         url = url.replace(base, "/api/v1")
                     job = finished if method == "GET" else ids["job"]
@@ -158,6 +177,8 @@ def test_curl_examples_in_the_docs_run_against_the_api(tmp_path):
                         ids["job" if url.endswith("/jobs") else "study"] = r.json()["id"]
                     if method == "POST" and url.endswith("/irregularities"):
                         ids["upload"] = r.json()["id"]
+                    if method == "POST" and "/profiles?" in url:
+                        ids["profile"] = r.json()["id"]
                     ran += 1
         # the error example of docs/service.md is what the API answers
         (example,) = _doc_blocks(README.parent / "docs" / "service.md", "json")

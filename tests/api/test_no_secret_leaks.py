@@ -53,7 +53,15 @@ def _hostile_requests() -> list[tuple[str, str, dict]]:
         reqs.append(("GET", f"/presets/{p}", {}))
         reqs.append(("POST", f"/irregularities?distance_column={p}",
                      {"content": Path("/proc/self/environ").read_bytes()}))
+        reqs.append(("GET", f"/profiles/{p}", {}))
+        reqs.append(("POST", "/jobs/validate", {"json": {"preset": "paper-metro", "overrides": {
+            "contact": {"geometry": "profiles", "wheel": {"path": p}}}}}))
     reqs.append(("POST", "/irregularities", {"content": f"TOKEN={TOKEN}\n".encode()}))
+    for fmt in ("txt", "prw", "ban"):
+        reqs.append(("POST", f"/profiles?format={fmt}&kind=rail",
+                     {"content": Path("/proc/self/environ").read_bytes()}))
+        reqs.append(("POST", f"/profiles?format={fmt}&kind=wheel",
+                     {"content": f"0 {TOKEN}\n1 2\n".encode()}))
     return reqs
 
 

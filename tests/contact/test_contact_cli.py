@@ -115,3 +115,36 @@ def test_bad_files_exit_2_naming_file_and_line(tmp_path) -> None:
     code, _, err = _invoke("table", "--wheel", str(w))
     assert code == 2 and err.startswith("error: w.txt: a wheel profile needs at least 10")
     assert str(tmp_path) not in err
+
+
+def test_profile_text_export_reads_back_as_the_same_contact_geometry(tmp_path) -> None:
+    """A built-in pair written as text (0.1 mm apart) and read back by the text reader gives
+    the built-in pair's equivalent conicity (3 mm: within 0.1 %), and a converted MiniProf or
+    SIMPACK file the one of the original."""
+    files = {}
+    for kind, name in (("wheel", "s1002"), ("rail", "60e1")):
+        files[kind] = tmp_path / f"{name}.txt"
+        code, out, err = _invoke("profile", kind, name, "-o", str(files[kind]),
+                                 "--every-mm", "0.1")
+        assert code == 0 and "points to" in out, err
+        assert files[kind].read_text().startswith("# ")
+    args = ("conicity", "--json", "--amplitudes-mm", "3")
+    _, builtin, _ = _invoke(*args)
+    _, text, _ = _invoke(*args, "--wheel", str(files["wheel"]), "--rail", str(files["rail"]))
+    assert json.loads(text)[0]["tan_gamma_e"] == pytest.approx(
+        json.loads(builtin)[0]["tan_gamma_e"], rel=1e-3)
+    converted = tmp_path / "wheel-from-prw.txt"
+    code, _, err = _invoke("profile", "wheel", str(mbench_file("MBench_S1002_v3.prw")), "-o",
+                           str(converted), "--every-mm", "0.1")
+    assert code == 0, err
+    _, text, _ = _invoke(*args, "--wheel", str(converted))
+    assert json.loads(text)[0]["tan_gamma_e"] == pytest.approx(
+        json.loads(builtin)[0]["tan_gamma_e"], rel=5e-3)
+
+
+def test_profile_export_errors_exit_2(tmp_path) -> None:
+    code, _, err = _invoke("profile", "wheel", "nope", "-o", str(tmp_path / "x.txt"))
+    assert code == 2 and err == "error: --wheel: nope: no such file (built-in: s1002)"
+    code, _, err = _invoke("profile", "rail", "60e1", "-o", str(tmp_path / "x.txt"),
+                           "--every-mm", "0")
+    assert code == 2 and "--every-mm" in err

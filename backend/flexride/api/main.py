@@ -53,8 +53,9 @@ TAGS = [
      "parameters, with tables ready to plot."},
     {"name": "fe", "description": "FE meshes and mode shapes of the flexible car body and "
      "bogie frames, by model parameters or of a job, built by jobs of kind fe_export."},
-    {"name": "uploads", "description": "Measured track irregularities uploaded as CSV, "
-     "stored by content hash and referred to by that id in scenarios."},
+    {"name": "uploads", "description": "Measured track irregularities (CSV) and wheel or "
+     "rail profiles (SIMPACK, MiniProf, text) uploaded as data, stored by content hash and "
+     "referred to by that id in scenarios."},
     {"name": "presets", "description": "Named scenarios and JSON schemas."},
     {"name": "service", "description": "Health and version."},
 ]

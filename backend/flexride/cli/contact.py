@@ -1,8 +1,9 @@
 """``flexride contact …``: wheel–rail contact geometry of real profiles from the command line.
 
-Commands: ``conicity`` (EN 15302 equivalent conicity of a profile pair or of a Δr table) and
+Commands: ``conicity`` (EN 15302 equivalent conicity of a profile pair or of a Δr table),
 ``table`` (rolling-radius difference, contact-angle difference, roll and contact positions
-against the wheelset's lateral displacement, printed or exported as CSV/JSON). Profiles are the
+against the wheelset's lateral displacement, printed or exported as CSV/JSON) and ``profile``
+(a built-in profile or a converted file written as plain text in mm). Profiles are the
 built-in ``s1002`` wheel and ``60e1`` rail or files (SIMPACK ``.prw``/``.prr``, MiniProf
 ``.whl``/``.ban``, plain two-column text in mm). Options are in mm as the standards give them;
 the library works in m. User errors end with one line on standard error and exit code 2.
@@ -377,8 +378,8 @@ def _print_table(rows: list[dict[str, Any]], title: str) -> None:
     Console(highlight=False, width=max(_out.width, 100)).print(t)
 
 
-def _write_output(output: Path, text: str, n_rows: int) -> None:
-    """Write the CSV or JSON text of ``contact table`` to ``output`` atomically.
+def _write_output(output: Path, text: str, n_rows: int, what: str = "rows") -> None:
+    """Write the text of ``contact table`` or ``contact profile`` to ``output`` atomically.
 
     Parameters
     ----------
@@ -388,6 +389,8 @@ def _write_output(output: Path, text: str, n_rows: int) -> None:
         File content.
     n_rows : int
         Number of rows, for the confirmation line.
+    what : str
+        What the rows are, for the confirmation line.
     """
     try:
         from flexride.fileio import atomic_path
@@ -396,4 +399,34 @@ def _write_output(output: Path, text: str, n_rows: int) -> None:
             tmp.write_text(text, encoding="utf-8")
     except OSError as exc:
         _fail(f"--output {output.name}: cannot write ({exc.strerror or exc})")
-    _out.print(f"wrote {n_rows} rows to {output.name}")
+    _out.print(f"wrote {n_rows} {what} to {output.name}")
+
+
+@contact_app.command("profile")
+def profile_cmd(
+    kind: Annotated[Literal["wheel", "rail"], typer.Argument(help="wheel or rail.")],
+    source: Annotated[str, typer.Argument(
+        help="s1002 (wheel), 60e1 (rail) or a profile file to convert.")],
+    output: Annotated[Path, typer.Option("--output", "-o", help="Text file to write.")],
+    every_mm: Annotated[float, typer.Option(
+        "--every-mm", help="Least lateral distance between written points (mm).")] = 0.5,
+) -> None:
+    """Write a profile as plain text (y, z in mm; flexride's convention: y toward the field
+    side, z up; a wheel's taping line at y = 0): a built-in profile to look at, edit (e.g.
+    as a worn variant) or upload to the service, or a SIMPACK/MiniProf file converted.
+    """
+    try:
+        if not (math.isfinite(every_mm) and every_mm > 0):
+            raise ScenarioError(f"--every-mm must be a positive number, got {every_mm!r}")
+        prof = _profile(source, kind)
+    except FlexrideError as err:
+        _fail(str(err))
+    y_mm, z_mm = prof.y * 1e3, prof.z * 1e3
+    keep = [0]
+    for i in range(1, y_mm.size - 1):
+        if y_mm[i] - y_mm[keep[-1]] >= every_mm:
+            keep.append(i)
+    keep.append(y_mm.size - 1)
+    lines = [f"# {prof.name}: {kind} profile, y z in mm (y toward the field side, z up)"]
+    lines += [f"{y_mm[i]:.6f} {z_mm[i]:.6f}" for i in keep]
+    _write_output(output, "\n".join(lines) + "\n", len(keep), "points")

@@ -21,6 +21,7 @@ from typing import Any
 
 from flexride.errors import FlexrideError, ScenarioError, StabilityError
 from flexride.scenario.scenario import Scenario
+from flexride.track.measured import LIBRARY, MeasuredSources
 
 
 def canonical_json(data: Any) -> str:
@@ -87,8 +88,10 @@ class PreflightCache:
         with self._lock:
             self._items.clear()
 
-    def check(self, scenario: Scenario) -> dict[str, Any]:
-        """Check ``scenario`` for submission (see :func:`check_submission`), cached."""
+    def check(self, scenario: Scenario, sources: MeasuredSources = LIBRARY) -> dict[str, Any]:
+        """Check ``scenario`` for submission (see :func:`check_submission`), cached; uploaded
+        profiles are read from ``sources`` (their ids are content hashes, so the key holds).
+        """
         key = stability_key(scenario)
         with self._lock:
             key_lock = self._key_locks.setdefault(key, threading.Lock())
@@ -99,7 +102,7 @@ class PreflightCache:
                     self._items.move_to_end(key)
             if hit is None:
                 try:
-                    hit = _preflight(scenario)
+                    hit = _preflight(scenario, sources)
                 except StabilityError as exc:
                     hit = exc
                 with self._lock:
@@ -111,11 +114,11 @@ class PreflightCache:
         return hit
 
 
-def _preflight(scenario: Scenario) -> dict[str, Any]:
+def _preflight(scenario: Scenario, sources: MeasuredSources) -> dict[str, Any]:
     from flexride.solver import preflight
 
     try:
-        info = preflight(rigid_proxy(scenario))
+        info = preflight(rigid_proxy(scenario), sources=sources)
     except FlexrideError:
         raise
     except Exception as exc:  # a schema-valid scenario the solver cannot assemble
@@ -132,9 +135,11 @@ PREFLIGHT = PreflightCache()
 """The process-wide submission-check cache."""
 
 
-def check_submission(scenario: Scenario, *, cache: PreflightCache = PREFLIGHT) -> dict[str, Any]:
+def check_submission(scenario: Scenario, *, cache: PreflightCache = PREFLIGHT,
+                     sources: MeasuredSources = LIBRARY) -> dict[str, Any]:
     """Refuse a scenario that cannot run: flexible bodies not installed, assembly failure, or a
     time step beyond the stability limit (:class:`StabilityError` with ``dt_suggested``).
+    Uploaded profiles are read from ``sources`` (the service: its upload store).
 
     Returns
     -------
@@ -151,4 +156,4 @@ def check_submission(scenario: Scenario, *, cache: PreflightCache = PREFLIGHT) -
         )
     if not scenario.solver.check_stability:
         return {"stability": None}
-    return cache.check(scenario)
+    return cache.check(scenario, sources)

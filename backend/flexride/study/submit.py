@@ -105,7 +105,8 @@ class Submitter:
                           result_file=file_name, summary=src.summary, run_meta=src.run_meta,
                           wall_time_s=0.0)
                 return Submitted(job, True, None)
-        pre = check_submission(scenario, cache=self.cache) if self.settings.preflight else None
+        pre = (check_submission(scenario, cache=self.cache, sources=self.uploads.sources)
+               if self.settings.preflight else None)
         job = Job(**common, status="queued", progress=0.0, message="queued", run_meta={})
         return Submitted(job, False, pre)
 

@@ -2,7 +2,7 @@
 
 from fastapi import APIRouter
 
-from flexride.api.routes import fe, health, jobs, presets, results, studies, uploads
+from flexride.api.routes import fe, health, jobs, presets, profiles, results, studies, uploads
 
 api_router = APIRouter()
 api_router.include_router(jobs.router)
@@ -10,6 +10,7 @@ api_router.include_router(results.router)
 api_router.include_router(studies.router)
 api_router.include_router(fe.router)
 api_router.include_router(uploads.router)
+api_router.include_router(profiles.router)
 api_router.include_router(presets.router)
 api_router.include_router(health.router)
 

@@ -68,6 +68,22 @@ class VersionOut(BaseModel):
     runner: str
 
 
+class ProfileUploadOut(BaseModel):
+    """A stored wheel or rail profile (refer to it as ``{"upload": id}`` in a scenario's
+    ``contact.wheel`` or ``contact.rail``).
+    """
+
+    id: str = Field(description="SHA-256 of the content (64 hexadecimal digits)")
+    bytes: int = Field(description="Size of the content (bytes)")
+    format: str = Field(description="File format by extension: prw, prr, whl, ban, txt, csv")
+    kind: Literal["wheel", "rail"] = Field(description="What the profile describes")
+    points: int = Field(description="Points of the profile")
+    y_mm: list[float] = Field(description="Lateral coordinate, toward the field side, of at "
+                              "most 2000 points for drawing (mm)")
+    z_mm: list[float] = Field(description="Vertical coordinate, up, of the same points (mm)")
+    links: dict[str, str] = Field(description="URLs of the upload's resources")
+
+
 class UploadOut(BaseModel):
     """A stored upload of measured irregularities (refer to it as
     ``{"kind": "measured", "upload": id}`` in a scenario).

@@ -54,7 +54,8 @@ def validate_job(svc: Services, body: JobCreate) -> dict[str, Any]:
     scenario = resolve_scenario(body.scenario, body.preset, body.overrides)
     est = svc.submitter.admit(scenario)
     return {"valid": True, "estimate": asdict(est),
-            "preflight": check_submission(scenario, cache=svc.submitter.cache)}
+            "preflight": check_submission(scenario, cache=svc.submitter.cache,
+                                          sources=svc.uploads.sources)}
 
 
 def get_job(svc: Services, job_id: str, *, scenario: bool = False,

@@ -94,10 +94,20 @@ class _Points:
 
 
 class _Fail:
-    """Error factory bound to a file name."""
+    """Error factory bound to a file name; ``quote`` says whether messages may quote the
+    file's text (files a user read themselves) or not (uploads: an answer never quotes data
+    that were sent to the service).
+    """
 
-    def __init__(self, name: str) -> None:
+    def __init__(self, name: str, quote: bool = True) -> None:
         self.name = name
+        self.quote = quote
+
+    def show(self, text: str) -> str:
+        """``text`` of the file as a message may show it."""
+        if not self.quote:
+            return "(a value not shown)"
+        return repr(text if len(text) <= 40 else text[:40] + "…")
 
     def __call__(self, msg: str, line: int | None = None) -> ScenarioError:
         where = self.name if line is None else f"{self.name}, line {line}"
@@ -107,10 +117,10 @@ class _Fail:
 def _number(token: str, fail: _Fail, line: int) -> float:
     t = token.strip()
     if not _FLOAT.match(t) and t.lower() not in ("nan", "inf", "-inf", "+inf"):
-        raise fail(f"not a number: {t!r}", line)
+        raise fail(f"not a number: {fail.show(t)}", line)
     value = float(t.replace("d", "e").replace("D", "e"))
     if not math.isfinite(value):
-        raise fail(f"coordinate is NaN or inf ({t!r})", line)
+        raise fail(f"coordinate is NaN or inf ({fail.show(t)})", line)
     return value
 
 
@@ -185,14 +195,15 @@ def _parse_simpack(lines: list[str], fail: _Fail) -> tuple[_Points, int | None, 
         if "=" not in text:
             if not section:
                 continue  # free text outside the blocks
-            raise fail(f"expected 'key = value', got {text!r}", no)
+            raise fail(f"expected 'key = value', got {fail.show(text)}", no)
         key, value = (part.strip() for part in text.split("=", 1))
         key = key.lower()
         if section == ["header"]:
             if key == "type":
                 code = _number(value, fail, no)
                 if code not in (0.0, 1.0):
-                    raise fail(f"header type must be 0 (rail) or 1 (wheel), got {value!r}", no)
+                    raise fail(f"header type must be 0 (rail) or 1 (wheel), got {fail.show(value)}",
+                               no)
                 kind_code = int(code)
         elif section == ["spline"]:
             if key in _SPCK_REAL_KEYS or key in _SPCK_INT_KEYS:
@@ -264,7 +275,8 @@ def _parse_miniprof(lines: list[str], fail: _Fail) -> tuple[_Points, dict[str, s
                 if key.lower() == "columndef":
                     cols = [c.strip().upper() for c in value.split(",")]
                     if "X" not in cols or "Y" not in cols:
-                        raise fail(f"ColumnDef must name columns X and Y, got {value!r}", no)
+                        raise fail("ColumnDef must name columns X and Y, got "
+                                   f"{fail.show(value)}", no)
                     ix, iy, ncol = cols.index("X"), cols.index("Y"), len(cols)
                 continue
             tokens = text.lstrip('"').replace(",", " ").split()
@@ -276,7 +288,7 @@ def _parse_miniprof(lines: list[str], fail: _Fail) -> tuple[_Points, dict[str, s
         if not text or text.startswith("#"):
             continue
         if "=" in text:
-            raise fail(f"header line {text.split('=', 1)[0]!r} after the data rows", no)
+            raise fail(f"header line {fail.show(text.split('=', 1)[0])} after the data rows", no)
         tokens = text.lstrip('"').replace(",", " ").split()
         if len(tokens) < max(ix, iy) + 1 or (len(tokens) < ncol and "columndef" in header):
             raise fail(f"expected {ncol} columns (ColumnDef), got {len(tokens)}", no)
@@ -296,7 +308,7 @@ def _miniprof_to_profile(pts: _Points, header: dict[str, str], kind: ProfileKind
         try:
             declared = int(float(header["xypoints"]))
         except ValueError as exc:
-            raise fail(f"XYPoints is not a number: {header['xypoints']!r}") from exc
+            raise fail(f"XYPoints is not a number: {fail.show(header['xypoints'])}") from exc
         if declared != y.size:
             raise fail(f"XYPoints = {declared} but the file has {y.size} data rows "
                        "(truncated or damaged file?)")
@@ -308,7 +320,7 @@ def _miniprof_to_profile(pts: _Points, header: dict[str, str], kind: ProfileKind
         try:
             return float(text.replace(",", "."))
         except ValueError as exc:
-            raise fail(f"{key} is not a number: {text!r}") from exc
+            raise fail(f"{key} is not a number: {fail.show(text)}") from exc
 
     x_mm = y + offset("xoffset")
     y_mm = z + offset("yoffset")
@@ -362,9 +374,9 @@ def _finish(y: np.ndarray, z: np.ndarray, ln: np.ndarray, kind: ProfileKind, nam
 
 def _read(lines_of: Callable[[_Fail], list[str]], name: str, kind: ProfileKind | None,
           fmt: ProfileFormat | None, mirror_y: bool, shift_y: float,
-          taping_line_offset: float) -> Profile:
+          taping_line_offset: float, quote: bool = True) -> Profile:
     label = Path(name).name or "profile"
-    fail = _Fail(label)
+    fail = _Fail(label, quote)
     ext_fmt, ext_kind = profile_format(label)
     fmt = fmt or ext_fmt
     if fmt not in ("simpack", "miniprof", "text"):
@@ -454,7 +466,8 @@ def read_profile(path: str | Path, kind: ProfileKind | None = None, *,
 def read_profile_bytes(data: bytes, name: str, kind: ProfileKind | None = None, *,
                        fmt: ProfileFormat | None = None, mirror_y: bool = False,
                        shift_y: float = 0.0, taping_line_offset: float = 0.070) -> Profile:
-    """Read a profile from the bytes of an uploaded file.
+    """Read a profile from the bytes of an uploaded file. Error messages name the line but
+    never quote the file's text (an answer of the service never echoes data sent to it).
 
     Parameters
     ----------
@@ -474,4 +487,4 @@ def read_profile_bytes(data: bytes, name: str, kind: ProfileKind | None = None, 
         raise ScenarioError(f"{Path(str(name)).name}: profile data must be bytes")
     raw = bytes(data)
     return _read(lambda fail: _decode(raw, fail), str(name).replace("\\", "/"), kind, fmt,
-                 mirror_y, shift_y, taping_line_offset)
+                 mirror_y, shift_y, taping_line_offset, quote=False)
