@@ -22,7 +22,10 @@ router = APIRouter(prefix="/profiles", tags=["uploads"])
 
 UploadId = Annotated[str, Path(pattern=r"^[0-9a-f]{64}$",
                                description="Upload id: SHA-256 of the content")]
-Format = Literal[tuple(ext[1:] for ext in PROFILE_EXTENSIONS)]  # type: ignore[valid-type]
+Format = Annotated[str, Query(
+    pattern="^(" + "|".join(ext[1:] for ext in PROFILE_EXTENSIONS) + ")$",
+    description="File format by its extension: "
+    + ", ".join(ext[1:] for ext in PROFILE_EXTENSIONS))]
 Kind = Annotated[Literal["wheel", "rail"] | None, Query(
     description="wheel or rail; implied by prw/whl (wheel) and prr/ban (rail), needed for "
     "txt and csv")]
@@ -51,9 +54,7 @@ def _at_query(err: ScenarioError) -> ScenarioError:
              responses={401: {"description": "Bearer token missing or wrong"},
                         503: {"description": "Storage unavailable"}})
 async def upload_profile(request: Request, response: Response, svc: ServicesDep,
-                         format: Annotated[Format, Query(
-                             description="File format by its extension")],
-                         kind: Kind = None) -> dict[str, Any]:
+                         format: Format, kind: Kind = None) -> dict[str, Any]:
     """Check a profile file (the body, at most the service's body size limit) with the same
     readers as the CLI and store it by the SHA-256 of its content; the same content gives
     the same id. Refer to it in a scenario as ``"wheel": {"upload": "<id>"}`` (or ``rail``).
