@@ -237,12 +237,14 @@ def _register_subcommands() -> None:
     contact-geometry tools (``contact``).
     """
     from flexride.cli.contact import contact_app
+    from flexride.cli.estimate import estimate_app
     from flexride.cli.fe import fe_app
     from flexride.cli.service import register
 
     register(app)
     app.add_typer(fe_app, name="fe")
     app.add_typer(contact_app, name="contact")
+    app.add_typer(estimate_app, name="estimate")
 
 
 _register_subcommands()

@@ -1,0 +1,130 @@
+"""Comfort indices from a one-sided acceleration PSD G(f) on a (non-uniform) frequency grid,
+each the expectation of the time-domain definition in :mod:`flexride.analysis` for a stationary
+Gaussian response.
+
+* rms: √∫G df.
+* ISO 2631 / EN 12299 weighted rms: √∫|W(f)|² G df with W the analogue weighting of
+  :func:`flexride.analysis.weighting.weighting_response` (the same definitions the filters are
+  built from).
+* Sperling, filter form: 4.42·a_B^0.3, a_B = √∫|B(f)|² G_d df.
+* Sperling, spectral form: the time-domain version cuts the record into 5 s rectangular
+  segments and sums W_i¹⁰ = 0.896¹⁰·a_i³F(f_i)/f_i over the lines f_i = k/5 s in 0.5–40 Hz,
+  with a_i² the power-averaged squared peak amplitude of line i. For a stationary process the
+  expected a_i² of a T = 5 s rectangular segment is 2∫G(f)·sinc²((f − f_i)T) df (Fejér kernel;
+  2G(f_i)/T for a smooth G), which is what is used: the index a long record converges to.
+* G_d is the dynamic part the analysis applies Sperling to: G times the squared magnitude
+  (1 − 1/(1 + (f/0.3)⁸))² of its quasi-static split.
+* EN 12299 N_MV: the 5 s mean square of the weighted acceleration is treated as σ²χ²_ν/ν with
+  ν = 2σ⁴/Var, Var = (2/T)∫₋ᵀᵀ(1 − |τ|/T)R(τ)² dτ (R the autocorrelation of the weighted
+  signal); its 95th percentile gives a_P95.
+* Expected largest |a| over a duration D (Davenport): σ(√(2 ln N) + 0.5772/√(2 ln N)) with
+  N = 2ν₀D peaks of either sign, ν₀ = √(m₂/m₀) the zero up-crossing rate.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+from scipy import stats
+
+from flexride.analysis.quasistatic import QUASISTATIC_DEFAULTS
+from flexride.analysis.sperling import SPERLING_DEFAULTS, frequency_correction
+from flexride.analysis.weighting import weighting_response
+
+__all__ = ["dynamic_part_gain", "expected_peak", "nmv_block_p95", "sperling_filter_from_psd",
+           "sperling_spectral_from_psd", "weighted_rms"]
+
+#: step of the uniform grid the Fejér kernel is applied on (Hz)
+FINE_DF = 0.01
+_EULER = 0.5772156649
+
+
+def dynamic_part_gain(f: np.ndarray) -> np.ndarray:
+    """Squared magnitude of the analysis's dynamic part (record − quasi-static part) (-)."""
+    fc, order = QUASISTATIC_DEFAULTS["cutoff_hz"], QUASISTATIC_DEFAULTS["order"]
+    r = (np.asarray(f, float) / fc) ** (2 * order)
+    return (r / (1.0 + r)) ** 2
+
+
+def weighted_rms(f: np.ndarray, df: np.ndarray, psd: np.ndarray, name: str | None) -> np.ndarray:
+    """√∫|W|²G df of every row of ``psd`` ((m/s²)²/Hz); ``name`` None for no weighting."""
+    w2 = 1.0 if name is None else np.abs(weighting_response(name, f)) ** 2
+    return np.sqrt(np.atleast_2d(psd * w2) @ df)
+
+
+def sperling_filter_from_psd(f: np.ndarray, df: np.ndarray, psd: np.ndarray,
+                             direction: str) -> np.ndarray:
+    """Filter-form Sperling index 4.42·a_B^0.3 of the dynamic part of every row (-)."""
+    name = "Bv" if direction == "z" else "Bh"
+    return 4.42 * weighted_rms(f, df, psd * dynamic_part_gain(f), name) ** 0.3
+
+
+def sperling_spectral_from_psd(f: np.ndarray, psd: np.ndarray, direction: str,
+                               segment_s: float = SPERLING_DEFAULTS["segment_s"]) -> np.ndarray:
+    """Spectral-form Sperling index of the dynamic part of every row (module docstring).
+
+    Parameters
+    ----------
+    f : numpy.ndarray
+        (n_f,) sorted grid (Hz).
+    psd : numpy.ndarray
+        (n_rows, n_f) one-sided acceleration PSD ((m/s²)²/Hz).
+    direction : {"z", "y"}
+        Vertical or lateral frequency correction.
+    segment_s : float
+        Segment length of the time-domain definition (s).
+    """
+    fl, fine, kernel = _fejer(float(f[-1]), float(segment_s))
+    g = np.atleast_2d(psd) * dynamic_part_gain(f)
+    logg = np.log(np.maximum(g, 1e-300))
+    gf = np.exp(np.array([np.interp(fine, f, row, left=-690.0, right=-690.0) for row in logg]))
+    amp2 = 2.0 * FINE_DF * gf @ kernel.T  # (rows, lines), (m/s²)²
+    factor = frequency_correction(fl, "vertical" if direction == "z" else "lateral") / fl
+    return 0.896 * np.sum((100.0 * np.sqrt(amp2)) ** 3 * factor, axis=-1) ** 0.1
+
+
+@functools.lru_cache(maxsize=8)
+def _fejer(f_max: float, segment_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Sperling lines (Hz), the uniform fine grid up to ``f_max`` (Hz) and the Fejér kernel
+    sinc²((f − f_i)T) between them (lines × grid).
+    """
+    lo, hi = SPERLING_DEFAULTS["band_hz"]
+    lines = np.arange(math.ceil(lo * segment_s - 1e-9), math.floor(hi * segment_s + 1e-9) + 1)
+    fl = lines / segment_s
+    fine = np.arange(FINE_DF, f_max, FINE_DF)
+    kernel = np.sinc((fine[None, :] - fl[:, None]) * segment_s) ** 2
+    for a in (fl, fine, kernel):
+        a.setflags(write=False)
+    return fl, fine, kernel
+
+
+def _autocorrelation(f: np.ndarray, df: np.ndarray, g: np.ndarray, tau: np.ndarray
+                     ) -> np.ndarray:
+    """R(τ) = ∫ G(f) cos(2πfτ) df of every row of ``g``: (rows, n_tau)."""
+    return np.atleast_2d(g * df) @ np.cos(2.0 * np.pi * np.outer(f, tau))
+
+
+def nmv_block_p95(f: np.ndarray, df: np.ndarray, psd: np.ndarray, name: str,
+                  block_s: float = 5.0, quantile: float = 0.95) -> np.ndarray:
+    """95th percentile of the 5 s rms of the ``name``-weighted acceleration, every row (m/s²)."""
+    g = np.atleast_2d(psd) * np.abs(weighting_response(name, f)) ** 2
+    tau = np.linspace(0.0, block_s, 501)
+    R = _autocorrelation(f, df, g, tau)
+    var0 = R[:, 0]
+    tri = (1.0 - tau / block_s) * R**2
+    var_ms = 2.0 / block_s * 2.0 * np.trapezoid(tri, tau, axis=-1)
+    nu = np.where(var_ms > 0, 2.0 * var0**2 / np.maximum(var_ms, 1e-300), 1e6)
+    return np.sqrt(var0 * stats.chi2.ppf(quantile, nu) / nu)
+
+
+def expected_peak(f: np.ndarray, df: np.ndarray, psd: np.ndarray, duration: float
+                  ) -> np.ndarray:
+    """Expected largest |a| over ``duration`` s for a Gaussian process, every row (m/s²)."""
+    g = np.atleast_2d(psd)
+    m0 = g @ df
+    m2 = g @ (df * f**2)
+    nu0 = np.sqrt(m2 / np.maximum(m0, 1e-300))
+    k = np.sqrt(2.0 * np.log(np.maximum(2.0 * nu0 * duration, math.e)))
+    return np.sqrt(m0) * (k + _EULER / k)

@@ -1,0 +1,315 @@
+"""``linear_model(scenario) -> LinearModel``: the coupled vehicle–track system linearised about
+its steady state on smooth track, with the rail irregularities at every wheelset as inputs.
+
+Steps (the costly part of an estimate, done once per scenario):
+
+1. assemble the scenario as the time-domain solver does (:func:`flexride.solver.assemble`),
+   with a zero irregularity table: the model is linearised about smooth track;
+2. the operating point (:mod:`flexride.frequency.operating_point`): static equilibrium, or
+   steady curving on an arc, with the rail window frozen there; refused with flange contact
+   or a lost contact;
+3. finite-difference Jacobians of the kernel's own force evaluation
+   (:mod:`flexride.frequency.jacobians`): K = −∂A/∂X and C = −∂A/∂V (suspensions, elastic
+   modes, tangent Hertz stiffness, Kalker creep as damping f/V, gravitational stiffness and
+   conicity all come out of the kernel's forces), the input matrices B0 = ∂A/∂u and
+   B1 = ∂A/∂u̇ for the four rail irregularities u at each wheelset (u̇ = V·du/ds), and the
+   wheels' normal force and lateral position relative to the rail;
+4. the track model (:mod:`flexride.frequency.reduce`): rail modes condensed (default), all
+   kept, or rigid rails;
+5. the eigendecomposition of the state matrix, refused if a mode is unstable (hunting).
+
+Outputs are the accelerations of every recorded point, as the kernel records them: the second
+derivative of the point's displacement plus, laterally, the gravity component g·φ_x the
+accelerometer sees when the body rolls (on a curve the frame's specific force instead of g).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from flexride.frequency.errors import LinearisationError
+from flexride.frequency.jacobians import irregularity_jacobians, state_jacobians
+from flexride.frequency.lti import Modes, OutputMap, SecondOrderSystem
+from flexride.frequency.modes import ModeInfo, describe_modes
+from flexride.frequency.operating_point import OperatingPoint, operating_point
+from flexride.frequency.reduce import TRACK_MODELS, Reduced, TrackModel, reduce_track
+from flexride.frequency.track_input import TrackSpectra, track_spectra
+from flexride.results import Channel
+from flexride.scenario.scenario import Scenario
+from flexride.solver import system as S
+from flexride.solver.assemble import assemble
+from flexride.solver.forces import frame_specific_force
+from flexride.solver.static import initial_window_start, static_equilibrium
+from flexride.vehicle.topology import RecordedPoint, VehicleModel
+
+__all__ = ["LinearModel", "linear_model"]
+
+#: A mode whose eigenvalue has a real part above this (1/s) makes the model unstable.
+UNSTABLE_RATE = 1e-3
+SIDES = ("left", "right")
+
+
+@dataclass
+class LinearModel:
+    """The linearised vehicle–track model of one scenario.
+
+    Attributes
+    ----------
+    scenario : Scenario
+        The scenario (its random excitation is the default input spectrum).
+    track : {"condensed", "modal", "rigid"}
+        Track model.
+    system : SecondOrderSystem
+        Mass-normalised system of the kept coordinates; inputs ordered 4·w + c for wheelset w
+        and rail channel c (0 z left, 1 z right, 2 y left, 3 y right), in m.
+    dof_names : list of str
+        Names of the kept coordinates.
+    speed : float
+        Running speed V (m/s).
+    wheelset_x : numpy.ndarray
+        Wheelset positions from the vehicle centre, forward positive (m).
+    points : list of RecordedPoint
+        Every recorded point (car body points first).
+    accelerations : OutputMap
+        Accelerations (m/s²) of every recorded point, ``<body>.<point>.acc.<y|z>``.
+    wheels : OutputMap
+        Per wheel the dynamic normal force (``<wheelset>.<side>.force.n``, N) and the lateral
+        displacement relative to the rail head (``<wheelset>.<side>.rel_disp.y``, m).
+    static_wheel : dict
+        ``normal_force`` (N) and ``rel_disp_y`` (m) per wheel at the steady state, the flange
+        clearance (m, conical tread) and the contact model.
+    modes : Modes
+        Eigendecomposition of the state matrix.
+    mode_info : list of ModeInfo
+        One entry per eigenvalue: frequency, damping, dominant coordinates, label.
+    spectra : TrackSpectra or None
+        The scenario's random irregularity (None when it has none).
+    quasi_static : dict
+        Specific force at each recorded point in the steady state (m/s², lateral and vertical
+        minus g): the quasi-static acceleration on a curve, 0 on straight track.
+    flags : list of str
+        Reasons the estimate may not hold (only with ``strict=False``).
+    info : dict
+        Operating point, sizes and timings.
+    """
+
+    scenario: Scenario
+    track: TrackModel
+    system: SecondOrderSystem
+    dof_names: list[str]
+    speed: float
+    wheelset_x: np.ndarray
+    points: list[RecordedPoint]
+    accelerations: OutputMap
+    wheels: OutputMap
+    static_wheel: dict[str, Any]
+    modes: Modes
+    mode_info: list[ModeInfo]
+    spectra: TrackSpectra | None
+    quasi_static: dict[str, dict[str, float]]
+    flags: list[str] = field(default_factory=list)
+    info: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def duration(self) -> float:
+        """The scenario's run time (s), for peak estimates."""
+        return float(self.scenario.duration)
+
+    def delays(self) -> np.ndarray:
+        """Time each wheelset runs behind the leading one (s), τ_w = (x_1 − x_w)/V."""
+        return (self.wheelset_x.max() - self.wheelset_x) / self.speed
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON summary: track model, sizes, operating point, modes below 30 Hz, flags."""
+        low = [m.to_dict() for m in self.mode_info
+               if m.frequency_hz <= 30.0 and m.representative]
+        return {"scenario": self.scenario.name, "speed_kmh": self.scenario.speed_kmh,
+                "track": self.track, "n_dof": self.system.n, "n_inputs": self.system.m,
+                "points": [p.to_dict() for p in self.points], "modes_below_30_hz": low,
+                "static_wheel": self.static_wheel, "quasi_static": self.quasi_static,
+                "flags": list(self.flags), "info": self.info,
+                "spectra": self.spectra.to_dict() if self.spectra else None}
+
+
+def _full_system(op: OperatingPoint) -> tuple[SecondOrderSystem, np.ndarray, np.ndarray,
+                                                np.ndarray]:
+    """Full frozen-window system at the operating point, and the derivatives of the wheel
+    quantities (aux) with respect to the coordinates and to the inputs.
+    """
+    sys, s, w0 = op.sys, op.s, op.s_win0
+    dA_dX, daux_dX = state_jacobians(sys, op.X0, op.V0, s, w0)
+    dA_dV, _ = state_jacobians(sys, op.X0, op.V0, s, w0, wrt_velocity=True)
+    dA_du, daux_du = irregularity_jacobians(sys, op.X0, op.V0, s, w0)
+    speed = float(sys.par.speed)
+    full = SecondOrderSystem(K=-dA_dX, C=-dA_dV, B0=dA_du[:, 0::2].copy(),
+                             B1=dA_du[:, 1::2] / speed, B2=np.zeros_like(dA_du[:, 0::2]))
+    return full, daux_dX, daux_du[:, 0::2].copy(), 1.0 / sys.minv
+
+
+def _acceleration_outputs(op: OperatingPoint, veh: VehicleModel, n: int) -> tuple[
+        OutputMap, dict[str, dict[str, float]]]:
+    """Rows of every recorded point's lateral and vertical acceleration, and the specific
+    force there in the steady state.
+    """
+    sys = op.sys
+    names: list[str] = []
+    P = np.zeros((2 * len(veh.points), n))
+    G = np.zeros_like(P)
+    qs: dict[str, dict[str, float]] = {}
+    for p, (pname, bi, _m) in enumerate(veh.points):
+        o, nd = int(sys.body_off[bi]), int(sys.body_ndof[bi])
+        base = int(sys.pt_phi[p])
+        phi = sys.phi[base:base + 6 * nd].reshape(6, nd)
+        f_y, f_z, _k, _r, _d = frame_specific_force(sys, op.s + sys.body_x[bi])
+        body = veh.bodies[bi].name
+        names += [Channel(body, pname, "acc", "y").name, Channel(body, pname, "acc", "z").name]
+        P[2 * p, o:o + nd] = phi[1]
+        P[2 * p + 1, o:o + nd] = phi[2]
+        G[2 * p, o:o + nd] = f_z * phi[3]
+        G[2 * p + 1, o:o + nd] = -f_y * phi[3]
+        rx = float(phi[3] @ op.X0[o:o + nd])
+        qs[f"{body}.{pname}"] = {"y": float(f_y + rx * f_z),
+                                 "z": float(f_z - rx * f_y - sys.par.gravity)}
+    return OutputMap(names, P, G, np.zeros((P.shape[0], 4 * len(veh.wheelsets)))), qs
+
+
+def _wheel_outputs(op: OperatingPoint, veh: VehicleModel, daux_dX: np.ndarray,
+                   daux_du: np.ndarray) -> tuple[OutputMap, dict[str, Any]]:
+    """Rows of each wheel's normal force (N) and lateral displacement relative to the rail
+    head (m), and their steady values.
+    """
+    sys = op.sys
+    n = op.X0.shape[0]
+    names: list[str] = []
+    G_rows, D_rows = [], []
+    static: dict[str, Any] = {"normal_force": {}, "rel_disp_y": {}}
+    for w, b in enumerate(veh.wheelsets):
+        wname = veh.bodies[b].name
+        o = int(sys.body_off[b])
+        for side, sname in enumerate(SIDES):
+            row = (2 * w + side) * S.N_AUX
+            names.append(Channel(wname, sname, "force", "n").name)
+            G_rows.append(daux_dX[row + S.AUX_N])
+            D_rows.append(daux_du[row + S.AUX_N])
+            g = -daux_dX[row + S.AUX_RAIL_Y].copy()
+            g[o + 1] += 1.0
+            d = np.zeros(daux_du.shape[1])
+            d[4 * w + 2 + side] = -1.0
+            names.append(Channel(wname, sname, "rel_disp", "y").name)
+            G_rows.append(g)
+            D_rows.append(d)
+            key = f"{wname}.{sname}"
+            static["normal_force"][key] = float(op.aux[w, side, S.AUX_N])
+            static["rel_disp_y"][key] = float(op.X0[o + 1] - op.aux[w, side, S.AUX_RAIL_Y])
+    static["contact_model"] = ("profiles" if sys.par.contact_model == S.CONTACT_PROFILES
+                               else "conical")
+    static["flange_clearance_m"] = float(sys.par.flange_clearance)
+    Gm = np.array(G_rows)
+    return OutputMap(names, np.zeros((len(names), n)), Gm, np.array(D_rows)), static
+
+
+def _check_stable(modes: Modes, info: list[ModeInfo]) -> None:
+    """Refuse a linearised system with a growing mode (hunting above its critical speed)."""
+    bad = np.flatnonzero(modes.lam.real > UNSTABLE_RATE)
+    if bad.size:
+        k = int(bad[np.argmax(modes.lam.real[bad])])
+        raise LinearisationError(
+            f"the linearised system is unstable: a mode at {modes.damped_frequency_hz[k]:.2f} Hz "
+            f"({info[k].label}) grows at {modes.lam.real[k]:.3g} 1/s (hunting?); a stationary "
+            "response does not exist", "unstable")
+
+
+def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
+                 vehicle: VehicleModel | None = None, strict: bool = True) -> LinearModel:
+    """Linearise ``scenario`` about its steady state on smooth track.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Validated scenario (rigid or flexible bodies, conical or profile contact, straight or
+        curved line; its excitations must be random irregularities).
+    track : {"condensed", "modal", "rigid"}
+        Track model (:mod:`flexride.frequency.reduce`).
+    vehicle : VehicleModel, optional
+        A prebuilt vehicle (e.g. flexible bodies already built).
+    strict : bool
+        Raise :class:`LinearisationError` where the linearisation does not hold (flange
+        contact at equilibrium, a non-random excitation); with False those become ``flags``
+        and the model is built anyway (an unstable system always raises).
+
+    Returns
+    -------
+    LinearModel
+
+    Raises
+    ------
+    LinearisationError
+        See ``strict``; also when no steady state exists or the system is unstable.
+    """
+    if track not in TRACK_MODELS:
+        raise LinearisationError(f"unknown track model {track!r}; use one of "
+                                 f"{', '.join(TRACK_MODELS)}", "track")
+    t0 = time.perf_counter()
+    flags: list[str] = []
+    spectra = _spectra_or_flag(scenario, strict, flags)
+    asm = assemble(scenario.model_copy(update={"excitation": []}), vehicle=vehicle)
+    op = _operating_point_or_flag(scenario, asm, strict, flags)
+    t1 = time.perf_counter()
+    full, daux_dX, daux_du, mass = _full_system(op)
+    veh = asm.vehicle
+    acc, qs = _acceleration_outputs(op, veh, full.n)
+    wheels, static = _wheel_outputs(op, veh, daux_dX, daux_du)
+    red: Reduced = reduce_track(full, mass, int(op.sys.par.n_veh), track)
+    t2 = time.perf_counter()
+    modes = red.system.modes()
+    names = [asm.dof_names[i] if i >= 0 else f"rail.head{-i}" for i in red.keep]
+    info = describe_modes(modes, red.mass, names, veh)
+    _check_stable(modes, info)
+    t3 = time.perf_counter()
+    ws_x = np.array([veh.bodies[b].x_ref for b in veh.wheelsets])
+    return LinearModel(
+        scenario=scenario, track=track, system=red.system, dof_names=names,
+        speed=float(scenario.speed_mps), wheelset_x=ws_x, points=list(veh.recorded),
+        accelerations=red.outputs(acc), wheels=red.outputs(wheels), static_wheel=static,
+        modes=modes, mode_info=info, spectra=spectra, quasi_static=qs, flags=flags,
+        info={"position_m": op.s, "on_arc": op.on_arc, "rail_window_start_m": op.s_win0,
+              "n_dof_full": full.n, "n_dof": red.system.n,
+              "time_operating_point_s": t1 - t0, "time_linearise_s": t2 - t1,
+              "time_modes_s": t3 - t2})
+
+
+def _spectra_or_flag(scenario: Scenario, strict: bool, flags: list[str]) -> TrackSpectra | None:
+    """The scenario's random irregularities; a non-random excitation raises or is flagged."""
+    try:
+        return track_spectra(scenario)
+    except LinearisationError as err:
+        if strict and err.reason == "excitation" and scenario.excitation:
+            raise
+        flags.append(str(err))
+        random_only = scenario.model_copy(update={"excitation": [
+            e for e in scenario.excitation if e.kind == "random"]})
+        return track_spectra(random_only) if random_only.excitation else None
+
+
+def _operating_point_or_flag(scenario: Scenario, asm, strict: bool,
+                             flags: list[str]) -> OperatingPoint:
+    """The operating point; with ``strict=False`` flange contact or a lost contact is a flag."""
+    from flexride.frequency import operating_point as opm
+
+    try:
+        return operating_point(scenario, asm)
+    except LinearisationError as err:
+        if strict or err.reason not in ("flange_contact", "contact_loss"):
+            raise
+        flags.append(str(err))
+    s, on_arc = opm.linearisation_position(scenario, asm)
+    smooth = opm.smooth_assembly(asm, s)
+    s_win0 = initial_window_start(smooth, s)
+    X = static_equilibrium(smooth, s, s_win0)
+    X, V = opm.steady_state(smooth, s, s_win0, X)
+    return OperatingPoint(smooth, s, s_win0, X, V, opm.wheel_state(smooth, X, V, s, s_win0),
+                          on_arc)

@@ -1,0 +1,212 @@
+"""The operating point of the linearisation: the assembled system on smooth track, the position
+on the line, and the steady state of the vehicle there (static equilibrium on straight track,
+steady curving on the arc of a curve).
+
+The rail of the time-domain model lives in a window that moves with the vehicle in whole
+fastener bays; between two shifts the wheels roll through a window that stands still, over
+discrete fasteners. That is a time-varying system (periodic in the bay and in the shift), so an
+exactly time-invariant model does not exist. As the time-step stability check does
+(:mod:`flexride.solver.stability`), the model here freezes the window at the operating point:
+the wheels sit at fixed positions in it. What this neglects — the moving-load (convective)
+terms, about (V/c_rail)², and the parametric excitation at the fastener-passing frequency V/d —
+is listed in ``docs/analysis.md``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from flexride.frequency.errors import LinearisationError
+from flexride.scenario.line import CurvedLine
+from flexride.scenario.scenario import Scenario
+from flexride.solver import system as S
+from flexride.solver.assemble import Assembly
+from flexride.solver.forces import evaluate
+from flexride.solver.linearise import accelerations, jacobian, workspace
+from flexride.solver.static import initial_window_start, static_equilibrium
+
+#: Grid step of the (zero) irregularity table of the linearisation (m).
+IRR_GRID_STEP = 0.05
+#: Newton tolerance of the steady state: largest coordinate step (m, rad, m/s).
+STEADY_TOL = 1e-10
+
+
+@dataclass
+class OperatingPoint:
+    """The linearisation point.
+
+    Attributes
+    ----------
+    asm : Assembly
+        The assembled scenario with ``sys`` on smooth track (a zero irregularity table around
+        the vehicle).
+    s : float
+        Position of the vehicle centre on the line (m).
+    s_win0 : float
+        Start of the frozen rail window (m).
+    X0, V0 : numpy.ndarray
+        Coordinates (m, rad) and velocities (m/s, rad/s) of the steady state (velocities are
+        zero but for the wheelsets' spin perturbation on a curve).
+    aux : numpy.ndarray
+        Per-wheel quantities at the steady state, ``[wheelset, side, AUX_*]`` (N, m, rad).
+    on_arc : bool
+        Whether the point lies on the arc of a curve (steady curving).
+    """
+
+    asm: Assembly
+    s: float
+    s_win0: float
+    X0: np.ndarray
+    V0: np.ndarray
+    aux: np.ndarray
+    on_arc: bool
+
+    @property
+    def sys(self) -> S.SystemArrays:
+        """The kernel's arrays on smooth track."""
+        return self.asm.sys
+
+
+def linearisation_position(scenario: Scenario, asm: Assembly) -> tuple[float, bool]:
+    """Position (m) of the vehicle centre for the linearisation and whether it is on an arc.
+
+    Straight track: 0 m. Curve: the middle of the arc, which must hold the whole vehicle.
+
+    Raises
+    ------
+    LinearisationError
+        The arc is shorter than the vehicle (no steady curving state).
+    """
+    line = scenario.line
+    if not isinstance(line, CurvedLine):
+        return 0.0, False
+    xs = [b.x_ref for b in asm.vehicle.bodies]
+    span = max(xs) - min(xs)
+    if line.arc_length_m < span + 2.0:
+        raise LinearisationError(
+            f"line.arc_length_m = {line.arc_length_m:g} m is shorter than the vehicle "
+            f"({span:.1f} m between its outermost bodies): no steady curving state to "
+            "linearise about; use the time-domain solver", "equilibrium")
+    return line.start_m + line.entry_transition_m + 0.5 * line.arc_length_m, True
+
+
+def smooth_assembly(asm: Assembly, s: float) -> Assembly:
+    """``asm`` with a zero irregularity table covering the vehicle at position ``s`` (m)."""
+    ws_x = np.array([asm.vehicle.bodies[i].x_ref for i in asm.vehicle.wheelsets])
+    s0 = s + float(ws_x.min()) - 5.0
+    n = int(np.ceil((float(ws_x.max() - ws_x.min()) + 10.0) / IRR_GRID_STEP)) + 1
+    par = asm.sys.par._replace(irr_s0=s0, irr_ds=IRR_GRID_STEP)
+    sys0 = asm.sys._replace(par=par, irr=np.zeros((4, n)))
+    return dataclasses.replace(asm, sys=sys0)
+
+
+def _spin_indices(asm: Assembly) -> np.ndarray:
+    """State indices of the wheelsets' spin perturbation (their pitch coordinate)."""
+    sys = asm.sys
+    return np.array([int(sys.body_off[b]) + 4 for b in asm.vehicle.wheelsets], dtype=np.int64)
+
+
+def steady_state(asm: Assembly, s: float, s_win0: float, X: np.ndarray,
+                 max_iter: int = 30) -> tuple[np.ndarray, np.ndarray]:
+    """Steady state at ``s``: every acceleration zero, solved for all coordinates but the spin
+    angles (which no force depends on) and for the spin rates (which balance the longitudinal
+    creep forces in a curve). Newton with finite-difference Jacobians, from ``X``.
+
+    Returns
+    -------
+    X, V : numpy.ndarray
+        Coordinates (m, rad) and velocities (m/s, rad/s; only the spin rates are not zero).
+
+    Raises
+    ------
+    LinearisationError
+        Newton does not converge.
+    """
+    sys = asm.sys
+    n = X.shape[0]
+    spin = _spin_indices(asm)
+    keep = np.setdiff1d(np.arange(n), spin)
+    V = np.zeros(n)
+    scale = 1.0 / sys.minv
+    res = np.inf
+    for _ in range(max_iter):
+        r = accelerations(sys, X, V, s, s_win0) * scale
+        res = float(np.linalg.norm(r))
+        J = np.hstack([jacobian(sys, X, V, s, s_win0, keep),
+                       jacobian(sys, X, V, s, s_win0, spin, wrt_velocity=True)])
+        dz = np.linalg.solve(J * scale[:, None], -r)
+        lam = 1.0
+        for _ls in range(20):
+            Xt, Vt = X.copy(), V.copy()
+            Xt[keep] += lam * dz[: keep.size]
+            Vt[spin] += lam * dz[keep.size:]
+            rt = accelerations(sys, Xt, Vt, s, s_win0) * scale
+            if np.linalg.norm(rt) < res or lam < 1e-3:
+                break
+            lam *= 0.5
+        X, V = Xt, Vt
+        if np.max(np.abs(lam * dz)) < STEADY_TOL:
+            return X, V
+    raise LinearisationError(
+        f"no steady state found at s = {s:g} m (residual {res:.3g} N after {max_iter} Newton "
+        "steps); use the time-domain solver", "equilibrium")
+
+
+def wheel_state(asm: Assembly, X: np.ndarray, V: np.ndarray, s: float,
+                s_win0: float) -> np.ndarray:
+    """Per-wheel quantities ``aux[wheelset, side, AUX_*]`` at (X, V) (N, m, rad)."""
+    F, A, aux, sn, cst = workspace(asm.sys)
+    evaluate(asm.sys, X.copy(), V.copy(), s, s_win0, F, A, aux, sn, cst, 0.0)
+    return aux.copy()
+
+
+def check_contact(asm: Assembly, X: np.ndarray, aux: np.ndarray) -> None:
+    """Refuse a steady state with a lost wheel contact or with flange contact.
+
+    Raises
+    ------
+    LinearisationError
+        A wheel without normal force, or a flange in contact (conical tread: lateral
+        displacement relative to the rail beyond ``contact.flange_clearance``; real profiles:
+        load on the flange slot), with the wheel named.
+    """
+    sys = asm.sys
+    names = [asm.vehicle.bodies[b].name for b in asm.vehicle.wheelsets]
+    for w, b in enumerate(asm.vehicle.wheelsets):
+        for side, sname in enumerate(("left", "right")):
+            if not aux[w, side, S.AUX_N] > 0.0:
+                raise LinearisationError(
+                    f"{names[w]} {sname} wheel has no contact at equilibrium: the linearised "
+                    "model does not hold", "contact_loss")
+            if sys.par.contact_model == S.CONTACT_PROFILES:
+                flange = aux[w, side, S.AUX_N_FLANGE] > 0.0
+            else:
+                dy = X[int(sys.body_off[b]) + 1] - aux[w, side, S.AUX_RAIL_Y]
+                flange = (dy > sys.par.flange_clearance) if side == 0 else (
+                    dy < -sys.par.flange_clearance)
+            if flange:
+                raise LinearisationError(
+                    f"{names[w]} {sname} wheel is in flange contact at equilibrium (steady "
+                    "curving): flange contact is not linear; use the time-domain solver",
+                    "flange_contact")
+
+
+def operating_point(scenario: Scenario, asm: Assembly) -> OperatingPoint:
+    """The linearisation point of ``scenario`` (assembled as ``asm``).
+
+    Raises
+    ------
+    LinearisationError
+        No steady state, lost contact or flange contact at the steady state.
+    """
+    s, on_arc = linearisation_position(scenario, asm)
+    smooth = smooth_assembly(asm, s)
+    s_win0 = initial_window_start(smooth, s)
+    X = static_equilibrium(smooth, s, s_win0)
+    X, V = steady_state(smooth, s, s_win0, X)
+    aux = wheel_state(smooth, X, V, s, s_win0)
+    check_contact(smooth, X, aux)
+    return OperatingPoint(smooth, s, s_win0, X, V, aux, on_arc)

@@ -1,0 +1,231 @@
+"""``response(model, spectra, points) -> ResponseSpectra``: the response PSD of the linear model
+to independent random irregularity components, with the wheelsets' delays.
+
+For component c with one-sided temporal PSD G_c(f) and rail mapping t_c (rail irregularities per
+unit component), every wheelset w sees the same profile τ_w later than the leading one, so the
+output o responds with
+
+    Y_oc(ω) = Σ_w H_ow(ω) t_c e^{−jωτ_w},   H_ow(ω) = (−ω² P_o + G_o) X_w(ω) + D_ow
+
+and, the components being independent (as in the synthesis of the time-domain solver),
+
+    S_o(f) = Σ_c |Y_oc(2πf)|² G_c(f)                ((m/s²)²/Hz, one-sided).
+
+X_w(ω) comes in closed form from the eigendecomposition of the state matrix: modal
+coordinates η_k(ω) = l_k (B0 + jωB1 − ω²B2) u(ω) / (jω − λ_k), all frequencies at once with
+NumPy (no loop over frequencies).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from flexride.errors import ScenarioError
+from flexride.frequency.grid import frequency_grid, integration_weights
+from flexride.frequency.lti import OutputMap
+from flexride.frequency.model import LinearModel
+from flexride.frequency.track_input import TrackSpectra
+
+__all__ = ["ResponseSpectra", "channel_frf", "response", "select_channels"]
+
+
+@dataclass
+class ResponseSpectra:
+    """Response PSDs of one linear model to one set of track spectra.
+
+    Attributes
+    ----------
+    model : LinearModel
+        The model.
+    spectra : TrackSpectra
+        The input spectra.
+    frequencies : numpy.ndarray
+        (n_f,) frequency grid (Hz).
+    channels : list of str
+        Output names (``carbody.PC.acc.z`` …).
+    psd : numpy.ndarray
+        (n_ch, n_f) one-sided PSD ((m/s²)²/Hz for accelerations).
+    by_component : numpy.ndarray
+        (n_comp, n_ch, n_f) the part of each irregularity component.
+    input_psd : numpy.ndarray
+        (n_comp, n_f) the components' temporal PSD (m²/Hz, rad²/Hz for cross level).
+    wheel_channels : list of str
+        Wheel outputs (``wheelset1.left.force.n`` in N, ``wheelset1.left.rel_disp.y`` in m).
+    wheel_psd : numpy.ndarray
+        (n_wheel_ch, n_f) their PSD (N²/Hz, m²/Hz).
+    """
+
+    model: LinearModel
+    spectra: TrackSpectra
+    frequencies: np.ndarray
+    channels: list[str]
+    psd: np.ndarray
+    by_component: np.ndarray
+    input_psd: np.ndarray
+    wheel_channels: list[str]
+    wheel_psd: np.ndarray
+    _eta: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
+    _rows: tuple[np.ndarray, np.ndarray] = field(repr=False,
+                                                 default_factory=lambda: (np.zeros(0),) * 2)
+    _Y: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
+
+    @property
+    def weights(self) -> np.ndarray:
+        """Trapezoidal integration weights of the grid (Hz)."""
+        return integration_weights(self.frequencies)
+
+    def variance(self, psd: np.ndarray | None = None) -> np.ndarray:
+        """∫ PSD df over the grid for every channel (units²)."""
+        return (self.psd if psd is None else psd) @ self.weights
+
+    def index(self, channel: str) -> int:
+        """Row of ``channel`` in :attr:`psd`."""
+        try:
+            return self.channels.index(channel)
+        except ValueError:
+            raise ScenarioError(f"no output channel {channel!r}; available: "
+                                f"{', '.join(self.channels)}") from None
+
+    def mode_shares(self, weight2: np.ndarray) -> np.ndarray:
+        """Share of each eigenmode in each channel's weighted variance.
+
+        Parameters
+        ----------
+        weight2 : numpy.ndarray
+            (n_ch, n_f) squared magnitude of the frequency weighting per channel (-).
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_ch, n_modes) Re Σ conj(Y)·Y_k |W|² G df / Σ |Y|² |W|² G df: the shares of all
+            eigenvalues add up to one (the direct input part aside); a conjugate pair counts
+            twice (add the partner's share).
+        """
+        w = 2.0 * np.pi * self.frequencies
+        z = np.conj(self._Y) * (self.input_psd.T[:, :, None] * self.weights[:, None, None]
+                                * weight2.T[:, None, :])
+        om, gm = self._rows
+        a = np.einsum("fco,fck->ok", z * (-(w**2))[:, None, None], self._eta)
+        b = np.einsum("fco,fck->ok", z, self._eta)
+        total = np.einsum("fco,fco->o", z, self._Y).real
+        return (a * om + b * gm).real / np.maximum(total, 1e-300)[:, None]
+
+    def to_dict(self, arrays: bool = False) -> dict[str, Any]:
+        """JSON form: channels, rms per channel; with ``arrays`` the grid and the PSDs."""
+        out: dict[str, Any] = {
+            "scenario": self.model.scenario.name, "track": self.model.track,
+            "channels": list(self.channels),
+            "rms": dict(zip(self.channels, np.sqrt(self.variance()).tolist(), strict=True)),
+            "spectra": self.spectra.to_dict(), "unit": "(m/s^2)^2/Hz, one-sided"}
+        if arrays:
+            out["frequencies_hz"] = self.frequencies.tolist()
+            out["psd"] = {c: self.psd[i].tolist() for i, c in enumerate(self.channels)}
+        return out
+
+
+def select_channels(model: LinearModel, points: Sequence[str] | None) -> list[str]:
+    """Acceleration channels of ``points`` (point names such as ``PC`` or ``frame1.centre``;
+    default every car-body point), lateral and vertical.
+
+    Raises
+    ------
+    ScenarioError
+        An unknown point.
+    """
+    names = model.accelerations.names
+    if points is None:
+        return [n for n in names if n.startswith("carbody.")]
+    out = []
+    for p in points:
+        key = p if "." in p else f"carbody.{p}"
+        found = [n for n in names if n.rsplit(".", 2)[0] == key]
+        if not found:
+            known = sorted({n.rsplit(".", 2)[0] for n in names})
+            raise ScenarioError(f"unknown output point {p!r}; known: {', '.join(known)}")
+        out += found
+    return out
+
+
+def _sub(out: OutputMap, names: list[str]) -> OutputMap:
+    idx = [out.names.index(n) for n in names]
+    return OutputMap(names, out.P[idx], out.G[idx], out.D[idx])
+
+
+def channel_frf(model: LinearModel, out: OutputMap, f: np.ndarray, rail_maps: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """Outputs per unit irregularity component, wheelset delays included.
+
+    Returns
+    -------
+    Y : numpy.ndarray
+        (n_f, n_comp, n_out) complex response per unit component.
+    eta : numpy.ndarray
+        (n_f, n_comp, n_modes) modal coordinates.
+    rows : (numpy.ndarray, numpy.ndarray)
+        Modal output rows (n_out, n_modes) of the ω² term and of the displacement term.
+    """
+    sys, modes = model.system, model.modes
+    n, nw = sys.n, model.wheelset_x.size
+    w = 2.0 * np.pi * np.asarray(f, dtype=float)
+    E = np.exp(-1j * np.outer(w, model.delays()))
+    lv = modes.left[:, n:]
+    eta = np.zeros((w.size, rail_maps.shape[0], modes.lam.size), dtype=complex)
+    for k, B in enumerate((sys.B0, sys.B1, sys.B2)):
+        if not np.any(B):
+            continue
+        a = np.einsum("kwr,cr->cwk", (lv @ B).reshape(-1, nw, 4), rail_maps)
+        eta += (1j * w[:, None, None]) ** k * np.einsum("fw,cwk->fck", E, a)
+    eta /= 1j * w[:, None, None] - modes.lam[None, None, :]
+    om = out.P @ modes.right[:n]
+    gm = out.G @ modes.right[:n]
+    Y = -(w**2)[:, None, None] * (eta @ om.T) + eta @ gm.T
+    if np.any(out.D):
+        d = np.einsum("owr,cr->cow", out.D.reshape(len(out.names), nw, 4), rail_maps)
+        Y += np.einsum("fw,cow->fco", E, d)
+    return Y, eta, (om, gm)
+
+
+def response(model: LinearModel, spectra: TrackSpectra | None = None,
+             points: Sequence[str] | None = None,
+             frequencies: np.ndarray | None = None) -> ResponseSpectra:
+    """Response PSDs of ``model`` to ``spectra`` (default: the scenario's random irregularity).
+
+    Parameters
+    ----------
+    model : LinearModel
+        The linearised model.
+    spectra : TrackSpectra, optional
+        Input spectra.
+    points : sequence of str, optional
+        Points (``PC``, ``frame1.centre`` …); default every car-body point.
+    frequencies : numpy.ndarray, optional
+        Grid (Hz); default :func:`~flexride.frequency.grid.frequency_grid` of the model's modes.
+
+    Returns
+    -------
+    ResponseSpectra
+
+    Raises
+    ------
+    ScenarioError
+        No spectra (the scenario has no random irregularity and none was given), or an unknown
+        point.
+    """
+    spectra = spectra or model.spectra
+    if spectra is None:
+        raise ScenarioError("no track spectra: the scenario has no random irregularity; pass "
+                            "spectra")
+    f = frequency_grid(model.modes) if frequencies is None else np.asarray(frequencies, float)
+    channels = select_channels(model, points)
+    maps = spectra.rail_maps()
+    g = spectra.psd(f, model.speed)
+    Y, eta, rows = channel_frf(model, _sub(model.accelerations, channels), f, maps)
+    by_comp = (np.abs(Y) ** 2).transpose(1, 2, 0) * g[:, None, :]
+    Yw, _e, _r = channel_frf(model, model.wheels, f, maps)
+    wheel = ((np.abs(Yw) ** 2).transpose(1, 2, 0) * g[:, None, :]).sum(axis=0)
+    return ResponseSpectra(model, spectra, f, channels, by_comp.sum(axis=0), by_comp, g,
+                           list(model.wheels.names), wheel, eta, rows, Y)

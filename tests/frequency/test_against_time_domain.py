@@ -1,0 +1,149 @@
+"""The frequency-domain estimate against the time-domain solver, random straight track at 80
+and 50 km/h, rigid bodies.
+
+Two links, each with its own oracle:
+
+1. **linear model vs the nonlinear solver, same realisation.** The time-domain run and the
+   linear model (FFT of the same rail profile through the model's FRFs,
+   :func:`~flexride.frequency.linear_time_history`) see the same irregularities, so their
+   difference is nonlinearity and the frozen rail window only, not statistics: rms, ISO
+   weighted rms, Sperling and one-third-octave band powers are compared record to record.
+   The runs here have the flangeway clearance widened to 30 mm: with the preset's 8 mm the
+   wheelsets touch the flange 1–2.4 % of the time (σ of the wheel–rail lateral displacement
+   3 mm), which the linear model cannot represent and flags; that costs the lateral response
+   2–4 % (Wd-weighted 5 %, see docs/analysis.md) and leaves the vertical one unchanged.
+2. **the spectral estimate vs long records of the linear model.** The expectations computed
+   from the PSDs (:func:`~flexride.frequency.comfort`) against the same indices of the linear
+   model's response to a 30 km realisation of the German spectrum (long enough that the
+   statistical scatter is a few percent), computed with :mod:`flexride.analysis`.
+
+An 18 s run is too short for a direct statistical comparison (its rms scatters by ±10 %
+around the expectation; the numbers are in docs/analysis.md).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import signal
+
+from conftest import preset
+from flexride.analysis import apply_weighting, sperling
+from flexride.frequency import comfort, linear_model, linear_time_history, response
+from flexride.solver.assemble import assemble
+from flexride.solver.simulate import simulate
+from flexride.track.spectra import random_profile
+
+pytestmark = pytest.mark.slow
+
+SKIP_S = 3.0  # start of the run: the linear model starts from rest, the solver from statics
+POINTS = ("PR", "PFB", "PC", "PRB", "PLA", "PRA")
+
+
+def third_octave_bands(f_lo: float = 0.5, f_hi: float = 20.0) -> list[tuple[float, float]]:
+    """(lower, upper) edges of the base-10 one-third-octave bands with centres in the range."""
+    ks = range(round(10 * np.log10(f_lo)), round(10 * np.log10(f_hi)) + 1)
+    return [(10 ** (k / 10 - 0.05), 10 ** (k / 10 + 0.05)) for k in ks]
+
+
+def band_powers(f: np.ndarray, psd: np.ndarray, bands) -> np.ndarray:
+    """∫ PSD over each band, exact band edges (trapezoidal cumulative integral, interpolated;
+    summing whole bins would misplace up to a bin at each edge: ±14 % in a 0.5 Hz band of
+    1/64 Hz bins)."""
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (psd[1:] + psd[:-1]) * np.diff(f))])
+    return np.array([np.interp(hi, f, cum) - np.interp(lo, f, cum) for lo, hi in bands])
+
+
+@pytest.fixture(scope="module", params=[80, 50])
+def case(request):
+    sc = preset(f"paper-random-straight-{request.param}", contact__flange_clearance=0.03)
+    res = simulate(sc)
+    model = linear_model(sc)
+    lin = linear_time_history(model, assemble(sc).irregularity, res.time)
+    return sc, res, model, lin
+
+
+def _records(res, lin, ch):
+    skip = int(SKIP_S * res.sample_rate)
+    return res.channels[ch][skip:], lin[ch][skip:]
+
+
+@pytest.mark.parametrize("point", POINTS)
+def test_same_realisation_rms_iso_and_sperling(case, point):
+    _sc, res, _model, lin = case
+    fs = res.sample_rate
+    for d, weighting in (("z", "Wb"), ("y", "Wd")):
+        td, ln = _records(res, lin, f"carbody.{point}.acc.{d}")
+        assert np.std(ln) == pytest.approx(np.std(td), rel=0.05), d
+        aw = [np.std(apply_weighting(x, fs, weighting)) for x in (td, ln)]
+        assert aw[1] == pytest.approx(aw[0], rel=0.05), d
+        w = [sperling(x, fs, d).value for x in (td, ln)]
+        assert w[1] == pytest.approx(w[0], rel=0.03), d
+
+
+@pytest.mark.parametrize("point", ["PR", "PC", "PLA"])
+def test_same_realisation_third_octaves(case, point):
+    """Bands of 0.5–20 Hz inside the excitation band (f ≤ V/λ_min) within ±15 %."""
+    sc, res, _model, lin = case
+    fs = res.sample_rate
+    f_max = sc.speed_mps / sc.excitation[0].wavelength_min_m
+    bands = [b for b in third_octave_bands() if b[1] <= f_max]
+    for d in ("z", "y"):
+        td, ln = _records(res, lin, f"carbody.{point}.acc.{d}")
+        p = [band_powers(*signal.welch(x, fs=fs, nperseg=int(5 * fs)), bands)
+             for x in (td, ln)]
+        np.testing.assert_allclose(p[1], p[0], rtol=0.15, err_msg=d)
+
+
+@pytest.fixture(scope="module")
+def long_record(case):
+    """The linear model over a 30 km realisation, at 256 Hz (ISO weightings need ≥ 250 Hz)."""
+    sc, _res, model, _lin = case
+    exc = sc.excitation[0]
+    prof = random_profile(30_000.0, "high", exc.components, exc.wavelength_min_m,
+                          exc.wavelength_max_m, seed=11, ds=0.05)
+    fs = 256.0
+    t = np.arange(int((30_000.0 - 500.0) / model.speed * fs)) / fs
+    rec = linear_time_history(model, prof, t)
+    skip = int(10 * fs)
+    return model, fs, {k: v[skip:] for k, v in rec.items()}
+
+
+def test_expectations_against_a_long_record(long_record):
+    model, fs, rec = long_record
+    table = comfort(response(model))
+    for p in POINTS:
+        for d, weighting in (("z", "Wb"), ("y", "Wd")):
+            x = rec[f"carbody.{p}.acc.{d}"]
+            est = table.point(p).directions[d]
+            assert est.rms == pytest.approx(np.std(x), rel=0.05), (p, d)
+            aw = np.std(apply_weighting(x, fs, weighting))
+            assert est.iso[weighting] == pytest.approx(aw, rel=0.05), (p, d)
+            assert est.sperling == pytest.approx(sperling(x, fs, d).value, rel=0.03), (p, d)
+            assert est.sperling_filter == pytest.approx(
+                sperling(x, fs, d, form="filter").value, rel=0.03), (p, d)
+
+
+def test_expected_third_octaves_against_a_long_record(long_record):
+    """Band powers within ±15 %, or within three standard deviations of a band power measured
+    over T seconds (1/√(B·T) for a band of width B: 8 % at 0.5 Hz over 22 min) where that is
+    larger — below about 1.2 Hz."""
+    model, fs, rec = long_record
+    f = np.arange(0.05, 40.0, 0.005)
+    resp = response(model, frequencies=f)
+    f_max = model.speed / model.scenario.excitation[0].wavelength_min_m
+    bands = [b for b in third_octave_bands() if b[1] <= f_max]
+    duration = next(iter(rec.values())).size / fs
+    tol = np.array([max(0.15, 3.0 / np.sqrt((hi - lo) * duration)) for lo, hi in bands])
+    for p in ("PR", "PC", "PLA"):
+        for d in ("z", "y"):
+            ch = f"carbody.{p}.acc.{d}"
+            est = band_powers(f, resp.psd[resp.index(ch)], bands)
+            meas = band_powers(*signal.welch(rec[ch], fs=fs, nperseg=int(64 * fs)), bands)
+            assert np.all(np.abs(meas / est - 1.0) <= tol), (ch, (meas / est).round(3))
+
+
+def test_the_paper_case_flags_flange_contact():
+    """With the preset's 8 mm clearance the estimate says that flange contact is likely."""
+    table = comfort(response(linear_model(preset("paper-random-straight-80"))))
+    assert any("flange contact likely" in f for f in table.flags)
