@@ -237,6 +237,7 @@ def _register_subcommands() -> None:
     contact-geometry tools (``contact``).
     """
     from flexride.cli.contact import contact_app
+    from flexride.cli.critical_speed import critical_speed
     from flexride.cli.estimate import estimate_app
     from flexride.cli.fe import fe_app
     from flexride.cli.service import register
@@ -245,6 +246,7 @@ def _register_subcommands() -> None:
     app.add_typer(fe_app, name="fe")
     app.add_typer(contact_app, name="contact")
     app.add_typer(estimate_app, name="estimate")
+    app.command("critical-speed")(critical_speed)
 
 
 _register_subcommands()
