@@ -128,3 +128,32 @@ def test_safety_bad_input():
         wheelset_lateral_force(np.ones(n), np.ones(n), 1e5, FS, 0.0)
     with pytest.raises(AnalysisError, match="NaN"):
         wheel_unloading(np.full(n, np.nan), 7e4, FS)
+
+
+@pytest.mark.parametrize(("angle_deg", "mu", "expected"), [
+    (70.0, 0.36, 1.2003),   # (tan 70° − 0.36)/(1 + 0.36 tan 70°): the classical 1.2
+    (60.0, 0.30, 0.9424),
+    (70.0, 0.00, 2.7475),   # no friction: tan γ
+])
+def test_nadal_limit_by_hand(angle_deg, mu, expected):
+    from flexride.analysis.safety import nadal_limit
+
+    assert nadal_limit(np.radians(angle_deg), mu) == pytest.approx(expected, abs=1e-4)
+
+
+def test_nadal_limit_refuses_impossible_angles():
+    from flexride.analysis.safety import nadal_limit
+
+    for angle, mu in ((0.0, 0.3), (np.pi / 2, 0.3), (1.2, -0.1)):
+        with pytest.raises(AnalysisError, match="Nadal"):
+            nadal_limit(angle, mu)
+
+
+def test_running_safety_against_nadal_with_a_flange_angle(results_factory):
+    res = results_factory(fs=200.0, duration=10.0, wheelsets=2, meta_loads="nested")
+    assert running_safety(res).nadal is None  # conical tread: no flange angle
+    res.meta.update(flange_angle_rad=float(np.radians(70.0)), friction=0.36)
+    nadal = running_safety(res).nadal
+    assert nadal["limit"] == pytest.approx(1.2003, abs=1e-4)
+    assert nadal["worst"] == pytest.approx(10e3 / 68e3, rel=0.01) and nadal["passed"]
+    assert nadal["utilisation"] == pytest.approx(nadal["worst"] / nadal["limit"])

@@ -149,3 +149,10 @@ def test_roll_is_the_kinematic_roll(s1002_table) -> None:
     i = int(np.argmin(np.abs(t.y_grid + 0.006)))
     assert t.roll[i] == pytest.approx(-6.5e-4, rel=0.1)  # right wheel on its flange root
     assert math.isfinite(float(t.roll.sum()))
+
+
+def test_flange_angle_of_s1002_is_its_70_degree_flank():
+    """EN 13715 draws the S1002 flange flank as a straight line at 70° to the axle: the largest
+    flange contact angle of the table (what Nadal's limit uses) is that angle."""
+    table = profile_contact_table(s1002(), rail_60e1(), Placement(), E=E, nu=NU)
+    assert math.degrees(table.flange_angle()) == pytest.approx(70.0, abs=0.05)

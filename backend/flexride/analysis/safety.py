@@ -52,6 +52,7 @@ __all__ = [
     "SafetyIndex",
     "derailment_coefficient",
     "lateral_force_limit",
+    "nadal_limit",
     "running_safety",
     "wheel_unloading",
     "wheelset_lateral_force",
@@ -59,6 +60,27 @@ __all__ = [
 
 #: Limits of DESIGN §6.
 SAFETY_LIMITS = {"derailment_coefficient": 1.2, "wheel_unloading": 0.65}
+
+
+def nadal_limit(flange_angle_rad: float, friction: float) -> float:
+    """Nadal's limit of the derailment quotient Y/Q of a flanging wheel (-).
+
+    Flange climbing starts when the lateral force Y over the vertical load Q exceeds
+    (tan γ − μ)/(1 + μ·tan γ), γ the largest flange contact angle and μ the wheel–rail
+    friction coefficient (Nadal 1908; EN 14363 derives its limit 0.8 from it with a margin).
+
+    Parameters
+    ----------
+    flange_angle_rad : float
+        Largest flange contact angle of the wheel on the rail (rad), 0 < γ < π/2.
+    friction : float
+        Friction coefficient μ ≥ 0 (-).
+    """
+    if not (0.0 < flange_angle_rad < 0.5 * math.pi) or not (friction >= 0.0):
+        raise AnalysisError(f"Nadal's limit needs 0 < flange angle < 90° and μ ≥ 0, got "
+                            f"{math.degrees(flange_angle_rad):.4g}° and {friction!r}")
+    t = math.tan(flange_angle_rad)
+    return (t - friction) / (1.0 + friction * t)
 
 
 class SafetyDefaults(TypedDict):
@@ -371,6 +393,13 @@ class RunningSafety:
         Static wheel load per wheel (N) and where it came from.
     processing : dict
         Pinned processing parameters.
+    notes : list of str
+        What was skipped or floored.
+    nadal : dict or None
+        With real wheel profiles: the flange angle (``flange_angle_deg``), the friction
+        coefficient, Nadal's limit of Q/P for them and the largest Q/P of the run against it
+        (``worst``, ``utilisation``, ``location``); None for the conical tread (no flange
+        angle).
     """
 
     indices: list[SafetyIndex]
@@ -378,6 +407,7 @@ class RunningSafety:
     static_wheel_loads: dict[str, Any]
     processing: dict[str, Any]
     notes: list[str] = field(default_factory=list)
+    nadal: dict[str, Any] | None = None
 
     def worst(self, name: str) -> SafetyIndex | None:
         """The index of one kind with the highest utilisation, or None."""
@@ -478,5 +508,19 @@ def running_safety(
         static_wheel_loads={"values_N": loads, "source": src},
         processing={"lowpass_hz": lowpass_hz, "window_m": window_m, "step_m": step_m,
                     "speed_mps": speed, "filter": "Butterworth order 4, zero phase"},
-        notes=notes,
+        notes=notes, nadal=_nadal_check(results.meta, indices),
     )
+
+
+def _nadal_check(meta: dict[str, Any], indices: list[SafetyIndex]) -> dict[str, Any] | None:
+    """The run's largest Q/P against Nadal's limit for its wheel's flange angle and friction
+    (``meta["flange_angle_rad"]``, ``meta["friction"]``: written for real profiles)."""
+    angle, mu = meta.get("flange_angle_rad"), meta.get("friction")
+    qp = [i for i in indices if i.name == "derailment_coefficient"]
+    if angle is None or mu is None or not qp:
+        return None
+    limit = nadal_limit(float(angle), float(mu))
+    worst = max(qp, key=lambda i: i.value)
+    return {"flange_angle_deg": math.degrees(float(angle)), "friction": float(mu),
+            "limit": limit, "worst": worst.value, "location": worst.location,
+            "utilisation": worst.value / limit, "passed": bool(worst.value <= limit)}

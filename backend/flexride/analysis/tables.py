@@ -130,4 +130,10 @@ def safety_table(summary: Summary | dict[str, Any]) -> Table | None:
         table.add_row(idx["location"], label.get(idx["name"], idx["name"]), _fmt(idx["value"]),
                       _fmt(idx["limit"]), f"{use:.0%}" if use is not None else "–",
                       "[green]ok[/]" if idx["passed"] else "[bold red]exceeded[/]")
+    nadal = safety.get("nadal")
+    if nadal:
+        table.add_row(nadal["location"], f"Q/P (Nadal, γ {nadal['flange_angle_deg']:.1f}°, "
+                      f"μ {nadal['friction']:.2f})", _fmt(nadal["worst"]), _fmt(nadal["limit"]),
+                      f"{nadal['utilisation']:.0%}",
+                      "[green]ok[/]" if nadal["passed"] else "[bold red]exceeded[/]")
     return table

@@ -166,6 +166,17 @@ class ProfileContactTable:
             raise KeyError(f"unknown contact table field {name!r}; fields: {POINT_FIELDS}")
         return self.data[:, :, _F[name], :]
 
+    def flange_angle(self, touching: float = 1e-4) -> float:
+        """Largest contact angle (rad) of the flange branch where it carries the rigid contact
+        (gap below ``touching``, m), over both sides: the flange angle that Nadal's
+        derailment limit uses (70° for S1002).
+        """
+        gamma, gap = self.field("gamma")[:, 1, :], self.field("gap")[:, 1, :]
+        in_contact = gap < touching
+        if not in_contact.any():
+            return float(np.max(np.abs(gamma)))
+        return float(np.max(np.abs(gamma[in_contact])))
+
     def as_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """Flat float64 arrays for the numba kernel.
 

@@ -396,6 +396,8 @@ def integrate(
         "wall_time_solve_s": t_end - t_loop,
         "cpu_time_solve_s": cpu_end - cpu_loop,
         "output_points": [p[0] for p in asm.vehicle.points if p[1] == 0],
+        "friction": scenario.contact.friction,
+        "flange_angle_rad": None if asm.profiles is None else asm.profiles.flange_angle(),
     }
     report(1.0, "done")
     return _collect(asm, scenario, ws, meta)
