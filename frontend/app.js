@@ -17,6 +17,7 @@ const ROUTES = [
   { re: /^\/studies\/([^/?]+)\/?$/, view: "study", nav: "jobs", keys: ["id"] },
   { re: /^\/compare\/?$/, view: "compare", nav: "compare" },
   { re: /^\/flex\/?$/, view: "flexbody", nav: "flex" },
+  { re: /^\/contact\/?$/, view: "contact", nav: "contact" },
 ];
 
 const main = document.getElementById("main");

@@ -56,6 +56,9 @@ TAGS = [
     {"name": "uploads", "description": "Measured track irregularities (CSV) and wheel or "
      "rail profiles (SIMPACK, MiniProf, text) uploaded as data, stored by content hash and "
      "referred to by that id in scenarios."},
+    {"name": "contact", "description": "Wheel–rail contact geometry of a profile pair "
+     "(built in or uploaded): Δr, contact angles, roll and contact points against the "
+     "wheelset's lateral displacement, EN 15302 equivalent conicity, profiles for drawing."},
     {"name": "presets", "description": "Named scenarios and JSON schemas."},
     {"name": "service", "description": "Health and version."},
 ]

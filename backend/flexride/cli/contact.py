@@ -25,7 +25,20 @@ from rich import box
 from rich.console import Console
 from rich.table import Table
 
-from flexride.contact.placement import Placement
+from flexride.contact.placement import (
+    FLANGE_BACK_MM,
+    GAUGE_HEIGHT_MM,
+    GAUGE_MM,
+    R0_MM,
+    Placement,
+)
+from flexride.contact.table_rows import (
+    CONICITY_STEP_MM,
+    CONICITY_Y_MAX_MM,
+    conicity_rows,
+)
+from flexride.contact.table_rows import TABLE_COLUMNS as _TABLE_COLUMNS
+from flexride.contact.table_rows import table_rows as _table_rows
 from flexride.errors import FlexrideError, ScenarioError
 
 contact_app = typer.Typer(
@@ -48,12 +61,6 @@ FlangeBackOpt = Annotated[
 ]
 R0Opt = Annotated[float, typer.Option("--r0-mm", help="Nominal rolling radius (mm).")]
 
-_PLACE = Placement()
-"""The default placement (EN: 1435 mm at 14 mm, flange backs 1360 mm, r0 460 mm), in mm."""
-GAUGE_MM = round(_PLACE.gauge * 1000.0, 6)
-GAUGE_HEIGHT_MM = round(_PLACE.gauge_height * 1000.0, 6)
-FLANGE_BACK_MM = round(_PLACE.flange_back * 1000.0, 6)
-R0_MM = round(_PLACE.r0 * 1000.0, 6)
 RollOpt = Annotated[
     bool,
     typer.Option("--roll/--no-roll",
@@ -86,7 +93,7 @@ def _profile(spec: str, kind: Literal["wheel", "rail"]):
 
 def _setup(wheel: str, rail: str, inclination: str, gauge_mm: float, gauge_height_mm: float,
            flange_back_mm: float, r0_mm: float, roll: bool, y_max_mm: float, step_mm: float):
-    from flexride.contact.placement import Placement, parse_inclination
+    from flexride.contact.placement import parse_inclination
     from flexride.contact.search import SearchSettings
 
     for name, value in (("--gauge-mm", gauge_mm), ("--gauge-height-mm", gauge_height_mm),
@@ -114,10 +121,6 @@ def _amplitudes(text: str | None) -> np.ndarray:
     if not vals or any(not (math.isfinite(v) and v > 0.0) for v in vals):
         raise ScenarioError(f"--amplitudes-mm must be positive amplitudes in mm, got {text!r}")
     return np.array(vals) * 1e-3
-
-
-def _num(value: float, digits: int = 6) -> float | None:
-    return round(float(value), digits) if math.isfinite(float(value)) else None
 
 
 @contact_app.command("conicity")
@@ -163,15 +166,14 @@ def conicity_cmd(
         else:
             w, r, placement, settings = _setup(wheel, rail, inclination, gauge_mm,
                                                gauge_height_mm, flange_back_mm, r0_mm, roll,
-                                               12.0, 0.05)
+                                               CONICITY_Y_MAX_MM, CONICITY_STEP_MM)
             geo = search_contact(w, r, placement, settings)
             y, dr = geo.y, geo.delta_r
             source = f"{w.name} on {r.name}"
         tan_ge = equivalent_conicity(y, dr, amps, method=method)  # type: ignore[arg-type]
     except FlexrideError as exc:
         _fail(str(exc))
-    rows = [{"amplitude_mm": _num(a * 1e3, 4), "tan_gamma_e": _num(t)}
-            for a, t in zip(amps, tan_ge, strict=True)]
+    rows = conicity_rows(amps, tan_ge)
     if as_json:
         sys.stdout.write(json.dumps(rows, indent=1) + "\n")
         return
@@ -182,75 +184,6 @@ def conicity_cmd(
         t = row["tan_gamma_e"]
         table.add_row(f"{row['amplitude_mm']:g}", "—" if t is None else f"{t:.4f}")
     _out.print(table)
-
-
-_TABLE_COLUMNS = (
-    ("dy_mm", "wheelset lateral displacement, to the left"),
-    ("dr_mm", "rolling-radius difference r_left − r_right"),
-    ("dgamma_rad", "contact-angle difference γ_left − γ_right (track frame)"),
-    ("roll_rad", "wheelset roll (positive raises the left wheel)"),
-    ("roll_coefficient", "σ = b0·roll/Δy"),
-    ("r_left_mm", "rolling radius, left"),
-    ("r_right_mm", "rolling radius, right"),
-    ("gamma_left_rad", "contact angle, left (track frame)"),
-    ("gamma_right_rad", "contact angle, right (track frame)"),
-    ("wheel_left_mm", "contact on the left wheel profile (EN 13715 s)"),
-    ("wheel_right_mm", "contact on the right wheel profile (EN 13715 s)"),
-    ("rail_left_mm", "contact on the left rail profile (profile y, field side +)"),
-    ("rail_right_mm", "contact on the right rail profile (profile y, field side +)"),
-    ("track_left_mm", "contact from the track centre line, left"),
-    ("track_right_mm", "contact from the track centre line, right"),
-    ("second_gap_left_mm", "gap of the other branch, left (none if absent)"),
-    ("second_gap_right_mm", "gap of the other branch, right (none if absent)"),
-    ("two_point_left", "two-point contact, left"),
-    ("two_point_right", "two-point contact, right"),
-)
-
-
-def _table_rows(geo, every: float | None) -> list[dict[str, Any]]:
-    y = geo.y
-    b0 = geo.placement.taping_line
-    r = geo.at_rigid("r")
-    gam = geo.gamma_track
-    s = geo.at_rigid("s")
-    ry = geo.at_rigid("rail_y")
-    eta = geo.at_rigid("eta")
-    other = 1 - geo.rigid
-    gap2 = np.take_along_axis(geo.gap, other[:, None, :], axis=1)[:, 0, :]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        sigma = b0 * geo.roll / y
-    i0 = geo.i0
-    if 0 < i0 < y.size - 1:
-        sigma[i0] = b0 * (geo.roll[i0 + 1] - geo.roll[i0 - 1]) / (y[i0 + 1] - y[i0 - 1])
-    if every is None:
-        idx = np.arange(y.size)
-    else:
-        k = max(1, round(every / geo.settings.step))
-        idx = np.flatnonzero((np.arange(y.size) - i0) % k == 0)
-    rows = []
-    for i in idx:
-        rows.append({
-            "dy_mm": _num(y[i] * 1e3, 4),
-            "dr_mm": _num((r[0, i] - r[1, i]) * 1e3),
-            "dgamma_rad": _num(gam[0, i] - gam[1, i]),
-            "roll_rad": _num(geo.roll[i], 9),
-            "roll_coefficient": _num(sigma[i]),
-            "r_left_mm": _num(r[0, i] * 1e3, 5),
-            "r_right_mm": _num(r[1, i] * 1e3, 5),
-            "gamma_left_rad": _num(gam[0, i]),
-            "gamma_right_rad": _num(gam[1, i]),
-            "wheel_left_mm": _num(s[0, i] * 1e3, 4),
-            "wheel_right_mm": _num(s[1, i] * 1e3, 4),
-            "rail_left_mm": _num(ry[0, i] * 1e3, 4),
-            "rail_right_mm": _num(ry[1, i] * 1e3, 4),
-            "track_left_mm": _num(eta[0, i] * 1e3, 4),
-            "track_right_mm": _num(eta[1, i] * 1e3, 4),
-            "second_gap_left_mm": _num(gap2[0, i] * 1e3),
-            "second_gap_right_mm": _num(gap2[1, i] * 1e3),
-            "two_point_left": bool(geo.two_point[0, i]),
-            "two_point_right": bool(geo.two_point[1, i]),
-        })
-    return rows
 
 
 def _csv_text(rows: list[dict[str, Any]]) -> str:

@@ -228,3 +228,12 @@ def place_rail(curve: ProfileCurve, placement: Placement) -> PlacedRail:
         gauge_point=(0.5 * placement.gauge, -placement.gauge_height),
         origin=(eta_shift, z_shift),
     )
+
+
+_DEFAULT = Placement()
+#: The default placement in mm (EN: gauge 1435 mm at 14 mm, flange backs 1360 mm, r0 460 mm),
+#: the defaults of the contact commands and of ``GET /contact/geometry``.
+GAUGE_MM = round(_DEFAULT.gauge * 1e3, 6)
+GAUGE_HEIGHT_MM = round(_DEFAULT.gauge_height * 1e3, 6)
+FLANGE_BACK_MM = round(_DEFAULT.flange_back * 1e3, 6)
+R0_MM = round(_DEFAULT.r0 * 1e3, 6)

@@ -2,7 +2,17 @@
 
 from fastapi import APIRouter
 
-from flexride.api.routes import fe, health, jobs, presets, profiles, results, studies, uploads
+from flexride.api.routes import (
+    contact,
+    fe,
+    health,
+    jobs,
+    presets,
+    profiles,
+    results,
+    studies,
+    uploads,
+)
 
 api_router = APIRouter()
 api_router.include_router(jobs.router)
@@ -11,6 +21,7 @@ api_router.include_router(studies.router)
 api_router.include_router(fe.router)
 api_router.include_router(uploads.router)
 api_router.include_router(profiles.router)
+api_router.include_router(contact.router)
 api_router.include_router(presets.router)
 api_router.include_router(health.router)
 

@@ -12,6 +12,15 @@ from flexride.api.schemas.common import (
     JobKind,
     JobStatus,
 )
+from flexride.api.schemas.contact import (
+    ConicityPoint,
+    ContactGeometryOut,
+    ContactParameters,
+    ContactPoints,
+    ContactTableRow,
+    PlacedProfiles,
+    ProfileLine,
+)
 from flexride.api.schemas.fe import (
     FEBuildStatus,
     FEExport,
@@ -72,6 +81,11 @@ __all__ = [
     "ChannelList",
     "ComponentHealth",
     "Condition",
+    "ConicityPoint",
+    "ContactGeometryOut",
+    "ContactParameters",
+    "ContactPoints",
+    "ContactTableRow",
     "CorrelationChannel",
     "CorrelationOut",
     "Epoch",
@@ -93,8 +107,10 @@ __all__ = [
     "PaperPointOut",
     "ParameterAxis",
     "PeakOut",
+    "PlacedProfiles",
     "PointInfo",
     "PresetOut",
+    "ProfileLine",
     "ProfileUploadOut",
     "ScenarioSource",
     "SeriesChannel",
