@@ -159,6 +159,8 @@ def test_curl_examples_in_the_docs_run_against_the_api(tmp_path):
                         (tmp_path / words[-1]).write_text(text)
                     if words[:3] == ["flexride", "contact", "profile"]:  # a file to upload
                         _run_in(tmp_path, words[1:])
+                    if words[0].endswith("=$(curl"):  # VAR=$(curl … | python3 -c …)
+                        words = ["curl", *words[1:]]
                     if words[0] != "curl":
                         continue
                     method, url, body = _curl(words, tmp_path)

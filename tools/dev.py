@@ -8,6 +8,7 @@ Usage (from the repository root, with nothing but python3 installed)::
     python3 tools/dev.py test     # create .venv, install flexride with test extras, install or
                                   # start what the tests need, run pytest
     python3 tools/dev.py coverage # the same, and print the line coverage of flexride
+    python3 tools/dev.py flexride ARGS  # create .venv, install flexride, run `flexride ARGS`
 
 Extra arguments go to ``flexride serve``, ``flexride run`` or pytest respectively. Before the
 tests, ``test`` installs Debian's chromium, firefox-esr, xvfb and a Compose CLI with apt-get
@@ -106,10 +107,13 @@ def prepare_test_machine() -> str | None:
 
 
 def main(argv: list[str]) -> int:
-    if not argv or argv[0] not in {"serve", "run", "test", "coverage"}:
+    if not argv or argv[0] not in {"serve", "run", "test", "coverage", "flexride"}:
         print(__doc__)
         return 2
     cmd, rest = argv[0], argv[1:]
+    if cmd == "flexride":  # any command of the CLI, without activating .venv
+        ensure_venv()
+        return subprocess.call([str(BIN / "flexride"), *rest])
     if cmd == "serve":
         ensure_venv()
         return subprocess.call([str(BIN / "flexride"), "serve", *rest], cwd=ROOT)
