@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import ipaddress
 import os
+import signal
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -86,8 +87,21 @@ def serve(
               "celery": "Celery workers via the broker (start them with `flexride worker`)",
               "none": "no runner: jobs are recorded only"}[runner]
     typer.echo(f"jobs: {detail}; data in {settings.data_dir}")
+    _exit_normally_on_sigterm()
     uvicorn.run("flexride.api.main:create_app", factory=True, host=bind, port=settings.port,
                 log_level=settings.log_level.lower(), proxy_headers=True)
+
+
+def _exit_normally_on_sigterm() -> None:
+    """After a graceful shutdown uvicorn raises the signal it caught again with the handler
+    it found: SIGTERM's default would end the process at once, skipping the exit handlers
+    that release the embedded runner's semaphores. Exit through ``SystemExit`` instead (code
+    143 = 128 + SIGTERM, as a process ended by the signal reports).
+    """
+    def _exit(signum: int, _frame: object) -> None:
+        raise SystemExit(128 + signum)
+
+    signal.signal(signal.SIGTERM, _exit)
 
 
 def _worker_argv(concurrency: int, loglevel: str, queue: str) -> list[str]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import logging
 import multiprocessing as mp
 import os
+import signal
 import threading
 import time
 from collections.abc import Sequence
@@ -30,6 +31,23 @@ KIND = "embedded"
 _IDLE_POLL_S = 1.0
 _QUICK_DEATH_S = 30.0
 _MAX_BACKOFF_S = 60.0
+_GROUP_STOP_GRACE_S = 2.0
+_STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
+
+
+def _exit_cleanly_on_signals() -> None:
+    """In a worker: Ctrl-C (SIGINT to the terminal's process group) is left to the API
+    process, which stops its workers; SIGTERM ends the worker through ``SystemExit``, so its
+    ``finally`` blocks and finalizers run (presence record, multiprocessing semaphores) and a
+    job it was running stays ``running`` for the API (or the next start) to queue again.
+    """
+    def _terminate(_signum: int, _frame: Any) -> None:
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second one must not cut the clean-up
+        raise SystemExit(0)
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, _terminate)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)  # blocked by _spawn until now
 
 
 def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid: int) -> None:
@@ -49,6 +67,7 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
     from flexride.jobs.warmup import limit_blas_threads, warm_numba
     from flexride.study.run_job import JobContext, claimed_job, run_claimed
 
+    _exit_cleanly_on_signals()
     logging.basicConfig(level=str(settings_data.get("log_level", "info")).upper(),
                         format="%(asctime)s %(levelname)s [%(processName)s] %(message)s")
     limit_blas_threads(1)  # NumPy was imported while this module loaded
@@ -136,7 +155,13 @@ class EmbeddedRunner(JobRunner):
             name=f"flexride-worker-{slot}",
             daemon=False,
         )
-        p.start()
+        # the new process starts with SIGINT and SIGTERM blocked (the mask is inherited), so a
+        # stop signal that arrives while it still imports waits for worker_main's handlers
+        mask = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+        try:
+            p.start()
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         return p
 
     def _recover_dead(self) -> None:
@@ -155,7 +180,7 @@ class EmbeddedRunner(JobRunner):
         while not self._stopping.wait(0.5):
             with self._lock:
                 for i, p in enumerate(self._procs):
-                    if p.is_alive() or self._stopping.is_set():
+                    if p.is_alive() or self._stopping.is_set() or self._group_stop(p):
                         continue
                     if self._restart_at[i] == 0.0:
                         self._handle_death(i, p)
@@ -163,6 +188,16 @@ class EmbeddedRunner(JobRunner):
                         self._procs[i] = self._spawn(i)
                         self._restart_at[i] = 0.0
                         self.restarts += 1
+
+    def _group_stop(self, p: Any) -> bool:
+        """Whether a worker ended by a signal (or cleanly) while the service itself is being
+        stopped: SIGTERM or Ctrl-C to the whole process group reaches the workers a moment
+        before the API sets ``_stopping``; wait up to ``_GROUP_STOP_GRACE_S`` for it rather
+        than report a death and start a new worker.
+        """
+        if p.exitcode not in (0, -signal.SIGTERM, -signal.SIGINT):
+            return False
+        return self._stopping.wait(_GROUP_STOP_GRACE_S)
 
     def _handle_death(self, i: int, p) -> None:
         """Recover the dead process's job and schedule its restart (backing off when a
