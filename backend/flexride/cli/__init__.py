@@ -44,6 +44,26 @@ def _parse_set(items: list[str]) -> dict[str, Any]:
     return out
 
 
+def command_overrides(set_: list[str] | None, speed: float | None, body_model: str | None,
+                      duration: float | None = None) -> dict[str, Any]:
+    """The overrides of a command's ``--set PATH=VALUE`` options and its shortcuts
+    ``--speed`` (km/h), ``--body-model`` (rigid or flexible: car body and both frames) and
+    ``--duration`` (s, replacing a distance).
+    """
+    overrides = _parse_set(set_ or [])
+    if duration is not None:
+        overrides["duration_s"] = duration
+        overrides["distance_m"] = None
+    if speed is not None:
+        overrides["speed_kmh"] = speed
+    if body_model is not None:
+        if body_model not in ("rigid", "flexible"):
+            raise ScenarioError(f"--body-model must be rigid or flexible, got {body_model!r}")
+        overrides["bodies.carbody.model"] = body_model
+        overrides["bodies.frames.model"] = body_model
+    return overrides
+
+
 def _load(scenario_file: Path | None, preset: str | None, overrides: dict[str, Any]):
     from flexride.scenario.loading import read_scenario_file, resolve_scenario
 
@@ -128,18 +148,8 @@ def run(
     from flexride.solver.simulate import simulate
 
     try:
-        overrides = _parse_set(set_ or [])
-        if duration is not None:
-            overrides["duration_s"] = duration
-            overrides["distance_m"] = None
-        if speed is not None:
-            overrides["speed_kmh"] = speed
-        if body_model is not None:
-            if body_model not in ("rigid", "flexible"):
-                raise ScenarioError(f"--body-model must be rigid or flexible, got {body_model!r}")
-            overrides["bodies.carbody.model"] = body_model
-            overrides["bodies.frames.model"] = body_model
-        scenario = _load(scenario_file, preset, overrides)
+        scenario = _load(scenario_file, preset,
+                         command_overrides(set_, speed, body_model, duration))
         if as_json or not sys.stderr.isatty():
             results = simulate(scenario)
         else:
@@ -240,6 +250,7 @@ def _register_subcommands() -> None:
     from flexride.cli.critical_speed import critical_speed
     from flexride.cli.estimate import estimate_app
     from flexride.cli.fe import fe_app
+    from flexride.cli.paper import paper_app
     from flexride.cli.service import register
 
     register(app)
@@ -247,6 +258,7 @@ def _register_subcommands() -> None:
     app.add_typer(contact_app, name="contact")
     app.add_typer(estimate_app, name="estimate")
     app.command("critical-speed")(critical_speed)
+    app.add_typer(paper_app, name="paper")
 
 
 _register_subcommands()

@@ -33,21 +33,6 @@ def _fail(message: str) -> NoReturn:
     raise typer.Exit(2)
 
 
-def _overrides(set_: list[str] | None, speed: float | None, body_model: str | None
-               ) -> dict[str, Any]:
-    from flexride.cli import _parse_set
-
-    overrides = _parse_set(set_ or [])
-    if speed is not None:
-        overrides["speed_kmh"] = speed
-    if body_model is not None:
-        if body_model not in ("rigid", "flexible"):
-            raise ScenarioError(f"--body-model must be rigid or flexible, got {body_model!r}")
-        overrides["bodies.carbody.model"] = body_model
-        overrides["bodies.frames.model"] = body_model
-    return overrides
-
-
 def _f(v: float | None, fmt: str = ".3f") -> str:
     return "–" if v is None else format(v, fmt)
 
@@ -103,11 +88,11 @@ def estimate(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables")] = False,
 ) -> None:
     """Estimate ride comfort in the frequency domain (linearised model, track spectra)."""
-    from flexride.cli import _load
+    from flexride.cli import _load, command_overrides
     from flexride.frequency import estimate as run_estimate
 
     try:
-        scenario = _load(scenario_file, preset, _overrides(set_, speed, body_model))
+        scenario = _load(scenario_file, preset, command_overrides(set_, speed, body_model))
         if track not in ("condensed", "modal", "rigid"):
             raise ScenarioError(f"--track must be condensed, modal or rigid, got {track!r}")
         pts = [p.strip() for p in points.split(",") if p.strip()] if points else None

@@ -15,7 +15,6 @@ gzip encoding of :mod:`flexride.api.services.result_cache`.
 
 from __future__ import annotations
 
-import gzip
 import threading
 import weakref
 from collections.abc import Callable, Hashable
@@ -26,7 +25,12 @@ from pydantic import BaseModel
 
 from flexride.api.deps import Services
 from flexride.api.schemas import JobList, JobOut
-from flexride.api.services.result_cache import GZIP_LEVEL, Rendered, accepts_gzip, gzip_settings
+from flexride.api.services.result_cache import (
+    Rendered,
+    accepts_gzip,
+    gzip_settings,
+    render_body,
+)
 from flexride.store import JobStore
 from flexride.store.lru import ByteLRU
 from flexride.store.models import FINAL_STATUSES
@@ -99,8 +103,5 @@ def cached_record(request: Request, svc: Services, endpoint: str, params: Hashab
 
 
 def _render(answer: BaseModel, gz: tuple[int, int] | None) -> Rendered:
-    body = answer.model_dump_json(by_alias=True).encode()
-    packed = None
-    if gz is not None and len(body) >= gz[0]:
-        packed = gzip.compress(body, compresslevel=GZIP_LEVEL, mtime=0)
-    return Rendered(body, packed)
+    return render_body(answer.model_dump_json(by_alias=True).encode(),
+                       None if gz is None else gz[0])

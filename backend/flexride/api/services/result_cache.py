@@ -235,7 +235,13 @@ def render(content: Any, gzip_min: int | None) -> Rendered:
     """JSON of ``content`` (non-finite numbers as null) and its gzip encoding when the body
     has at least ``gzip_min`` bytes (None: never).
     """
-    body = bytes(SafeJSONResponse(content).body)
+    return render_body(bytes(SafeJSONResponse(content).body), gzip_min)
+
+
+def render_body(body: bytes, gzip_min: int | None) -> Rendered:
+    """A JSON ``body`` and its gzip encoding when it has at least ``gzip_min`` bytes (None:
+    never).
+    """
     gz = None
     if gzip_min is not None and len(body) >= gzip_min:
         gz = gzip.compress(body, compresslevel=GZIP_LEVEL, mtime=0)
