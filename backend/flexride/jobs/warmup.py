@@ -24,35 +24,19 @@ def single_threaded_env() -> None:
 
 
 def limit_blas_threads(n: int = 1) -> list[str]:
-    """Set the thread count of the OpenBLAS libraries already loaded in this process (NumPy's
-    and SciPy's wheels bundle their own), for processes that imported NumPy before
-    :func:`single_threaded_env` could act. Returns the libraries changed.
+    """Set the thread count of the BLAS libraries already loaded in this process (NumPy's
+    and SciPy's wheels bundle their own OpenBLAS), for processes that imported NumPy before
+    :func:`single_threaded_env` could act (threadpoolctl). Returns the libraries changed.
 
     On a shared or loaded machine one thread per process is much faster: the solver's setup
     (eigen-decompositions, solves of a few hundred unknowns) slowed down up to 6x with
     competing BLAS threads in our measurements.
     """
-    import ctypes
+    from threadpoolctl import threadpool_info, threadpool_limits
 
-    changed: list[str] = []
-    try:
-        with open("/proc/self/maps") as f:
-            paths = {line.split()[-1] for line in f if "openblas" in line.lower()}
-    except OSError:  # not Linux: rely on the environment variables
-        return changed
-    for path in sorted(paths):
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:
-            continue
-        for symbol in ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads",
-                       "openblas_set_num_threads64_", "openblas_set_num_threads"):
-            fn = getattr(lib, symbol, None)
-            if fn is not None:
-                fn(ctypes.c_int(n))
-                changed.append(path)
-                break
-    return changed
+    threadpool_limits(limits=n, user_api="blas")
+    return sorted(str(lib["filepath"]) for lib in threadpool_info()
+                  if lib.get("user_api") == "blas")
 
 
 def warm_numba() -> float:

@@ -116,7 +116,7 @@ def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> d
     Cs = 0.5 * (Cs + Cs.T)
     lam, vec = np.linalg.eigh(Ks)
     omega = np.sqrt(np.clip(lam, 0.0, None))
-    cm = np.einsum("ij,ik,kj->j", vec, Cs, vec)
+    cm = np.sum(vec * (Cs @ vec), axis=0)  # modal damping vᵀCv of each mode (BLAS, not einsum)
     cm = np.clip(cm, 0.0, None)
     dts = critical_step(omega, cm, sys.par.psi, sys.par.phi)
     j = int(np.argmin(dts))
