@@ -5,13 +5,15 @@
   equilibrium — and built with ``strict=False``);
 * the response PSDs and comfort tables of all eight conditions at the six paper points once
   the models are built (target ≤ 1 s on one core);
-* a 100-value sweep of the secondary vertical stiffness (target ≤ 5 s);
+* a 100-value sweep of the secondary vertical stiffness (target ≤ 5 s on one core; wall and
+  CPU time are printed, and what the rebuilds reused), and its first values against
+  rebuilds from scratch (the largest relative difference of any comfort index, ≤ 1e-9);
 * the ratio to the equivalent time-domain runs (measured on the 80 km/h straight run, per
   simulated second, times the simulated time of the eight conditions; ``--full`` runs all
   eight instead).
 
 BLAS runs on one thread (the targets are per core). Usage:
-``python benchmarks/bench_frequency.py [--full] [--sweep-values N]``
+``python benchmarks/bench_frequency.py [--full] [--sweep-values N] [--sweep-only]``
 """
 
 from __future__ import annotations
@@ -39,9 +41,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--full", action="store_true", help="run all eight time-domain cases")
     parser.add_argument("--sweep-values", type=int, default=100)
+    parser.add_argument("--sweep-only", action="store_true",
+                        help="only the sweep (and its check against rebuilds)")
     args = parser.parse_args()
+    if args.sweep_only:
+        _sweep(args.sweep_values)
+        return
 
-    from flexride.frequency import comfort, linear_model, response, sweep
+    from flexride.frequency import comfort, linear_model, response
     from flexride.scenario.presets import load_preset
     from flexride.solver.simulate import simulate
 
@@ -65,11 +72,7 @@ def main() -> None:
     print(f"response + comfort, 8 conditions × 6 points: {best:7.3f} s (target ≤ "
           f"{TARGET_SET_S:g} s) {'OK' if best <= TARGET_SET_S else 'MISSED'}")
 
-    values = np.linspace(2.0e5, 5.0e5, args.sweep_values).tolist()
-    res = sweep(scenarios[3], "vehicle.secondary.kz", values, points=["PC"])
-    print(f"sweep of {len(values)} values (vehicle.secondary.kz): {res.seconds:7.2f} s (target "
-          f"≤ {TARGET_SWEEP_S:g} s) {'OK' if res.seconds <= TARGET_SWEEP_S else 'MISSED'}; "
-          f"{1e3 * res.seconds / len(values):.0f} ms per value")
+    _sweep(args.sweep_values)
 
     names = _conditions() if args.full else ["paper-random-straight-80"]
     t_sim = sum(sc.duration for sc in scenarios)
@@ -89,6 +92,44 @@ def main() -> None:
     pc = tables[3].point("PC").directions["z"]
     print(f"check: PC vertical at 80 km/h, rms {pc.rms:.3f} m/s², Wb {pc.iso['Wb']:.3f} m/s², "
           f"Sperling {pc.sperling:.2f}")
+
+
+def _indices(table) -> dict:
+    """Every comfort index of a table by (point, direction, name)."""
+    out = {}
+    for p in table.points:
+        for d, dc in p.directions.items():
+            out.update({(p.name, d, q): getattr(dc, q)
+                        for q in ("rms", "sperling", "sperling_filter", "a_p95", "peak")})
+            out.update({(p.name, d, w): v for w, v in dc.iso.items()})
+    return out
+
+
+def _sweep(n_values: int, n_check: int = 5) -> None:
+    """The sweep of the secondary vertical stiffness at 80 km/h, timed, and its first values
+    against rebuilds from scratch.
+    """
+    from flexride.frequency import linear_model, sweep
+    from flexride.scenario.presets import load_preset
+
+    scenario = load_preset("paper-random-straight-80")
+    linear_model(scenario)  # numba kernels loaded
+    values = np.linspace(2.0e5, 5.0e5, n_values).tolist()
+    cpu = time.process_time()
+    res = sweep(scenario, "vehicle.secondary.kz", values, points=["PC"])
+    cpu = time.process_time() - cpu
+    ok = cpu <= TARGET_SWEEP_S
+    print(f"sweep of {len(values)} values (vehicle.secondary.kz): {res.seconds:7.2f} s wall, "
+          f"{cpu:.2f} s CPU (target ≤ {TARGET_SWEEP_S:g} s on one core) "
+          f"{'OK' if ok else 'MISSED'}; {1e3 * cpu / len(values):.0f} ms CPU per value")
+    print(f"  reused: {dict(sorted(res.reuse.items()))}")
+    ref = sweep(scenario, "vehicle.secondary.kz", values[:n_check], points=["PC"], reuse=False)
+    worst = 0.0
+    for a, b in zip(res.tables[:n_check], ref.tables, strict=True):
+        ia, ib = _indices(a), _indices(b)
+        worst = max(worst, max(abs(ia[k] - ib[k]) / abs(ib[k]) for k in ia if ib[k]))
+    print(f"  first {n_check} values against rebuilds from scratch ({ref.seconds:.2f} s): "
+          f"largest relative difference {worst:.1e} (≤ 1e-9)")
 
 
 if __name__ == "__main__":

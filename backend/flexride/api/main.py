@@ -59,6 +59,9 @@ TAGS = [
     {"name": "contact", "description": "Wheel–rail contact geometry of a profile pair "
      "(built in or uploaded): Δr, contact angles, roll and contact points against the "
      "wheelset's lateral displacement, EN 15302 equivalent conicity, profiles for drawing."},
+    {"name": "estimates", "description": "Frequency-domain ride-comfort estimates "
+     "(the linearised vehicle–track model driven by the track spectra), answered at once, "
+     "and parameter sweeps of them."},
     {"name": "presets", "description": "Named scenarios and JSON schemas."},
     {"name": "service", "description": "Health and version."},
 ]

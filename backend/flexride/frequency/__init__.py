@@ -12,7 +12,9 @@ Typical use (the costly part is :func:`linear_model`, once per scenario)::
     table.to_dict()                           # JSON-able
 
 :func:`estimate` does the three steps; :func:`sweep` repeats them over values of one
-scenario field; :func:`linear_time_history` applies the model to a given profile.
+scenario field, rebuilding each model reusing what the value does not change
+(:class:`ModelRebuilder`, exact to rounding); :func:`linear_time_history` applies the model to
+a given profile.
 """
 
 from __future__ import annotations
@@ -23,8 +25,9 @@ from flexride.frequency.estimate import Estimate, estimate
 from flexride.frequency.grid import frequency_grid
 from flexride.frequency.lti import Modes, OutputMap, SecondOrderSystem, output_frf
 from flexride.frequency.model import LinearModel, linear_model
+from flexride.frequency.rebuild import ModelRebuilder
 from flexride.frequency.response import ResponseSpectra, response
-from flexride.frequency.sweep import SweepResult, sweep
+from flexride.frequency.sweep import SweepResult, sweep, sweep_scenarios
 from flexride.frequency.timehistory import linear_time_history
 from flexride.frequency.track_input import RandomInput, TrackSpectra, track_spectra
 
@@ -34,6 +37,7 @@ __all__ = [
     "Estimate",
     "LinearModel",
     "LinearisationError",
+    "ModelRebuilder",
     "Modes",
     "OutputMap",
     "PointComfort",
@@ -50,5 +54,6 @@ __all__ = [
     "output_frf",
     "response",
     "sweep",
+    "sweep_scenarios",
     "track_spectra",
 ]

@@ -6,11 +6,11 @@ contact).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy import stats
 
 from flexride.analysis.summary import ISO_WEIGHTINGS
 from flexride.analysis.weighting import weighting_response
@@ -152,6 +152,11 @@ def _dominant(resp: ResponseSpectra, shares: np.ndarray, row: int) -> list[dict[
             for k in top]
 
 
+def _normal_tail(x: float) -> float:
+    """P(Z > x) of a standard normal variable."""
+    return 0.5 * math.erfc(x / math.sqrt(2.0))
+
+
 def _flags(resp: ResponseSpectra) -> list[str]:
     """Wheel unloading or flange contact within :data:`N_SIGMA` standard deviations."""
     static = resp.model.static_wheel
@@ -169,7 +174,7 @@ def _flags(resp: ResponseSpectra) -> list[str]:
             dy0 = abs(static["rel_disp_y"][key])
             clear = static["flange_clearance_m"]
             if dy0 + N_SIGMA * s > clear:
-                p = stats.norm.sf((clear - dy0) / s) + stats.norm.cdf((-clear - dy0) / s)
+                p = _normal_tail((clear - dy0) / s) + _normal_tail((clear + dy0) / s)
                 flags.append(f"{key}: lateral displacement relative to the rail "
                              f"{dy0 * 1e3:.1f} mm, σ = {s * 1e3:.1f} mm, reaches the flange "
                              f"clearance {clear * 1e3:.0f} mm {100 * p:.1f} % of the time "

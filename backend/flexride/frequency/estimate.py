@@ -13,6 +13,8 @@ from flexride.frequency.model import LinearModel, linear_model
 from flexride.frequency.reduce import TrackModel
 from flexride.frequency.response import ResponseSpectra, response
 from flexride.scenario.scenario import Scenario
+from flexride.solver.simulate import small_dense_problems
+from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.vehicle.topology import VehicleModel
 
 __all__ = ["Estimate", "estimate"]
@@ -44,7 +46,8 @@ class Estimate:
 
 def estimate(scenario: Scenario, points: Sequence[str] | None = None,
              track: TrackModel = "condensed", *, strict: bool = True,
-             vehicle: VehicleModel | None = None) -> Estimate:
+             vehicle: VehicleModel | None = None,
+             sources: MeasuredSources = LIBRARY) -> Estimate:
     """Frequency-domain comfort estimate of ``scenario``.
 
     Parameters
@@ -59,12 +62,15 @@ def estimate(scenario: Scenario, points: Sequence[str] | None = None,
         See :func:`~flexride.frequency.model.linear_model`.
     vehicle : VehicleModel, optional
         Prebuilt vehicle.
+    sources : MeasuredSources
+        Where uploaded wheel and rail profiles are read from (default: files by path).
 
     Raises
     ------
     LinearisationError
         The linear estimate does not hold (reason in the message).
     """
-    model = linear_model(scenario, track, vehicle=vehicle, strict=strict)
-    resp = response(model, points=points)
-    return Estimate(model, resp, comfort(resp))
+    with small_dense_problems():
+        model = linear_model(scenario, track, vehicle=vehicle, strict=strict, sources=sources)
+        resp = response(model, points=points)
+        return Estimate(model, resp, comfort(resp))

@@ -103,7 +103,36 @@ def _fejer(f_max: float, segment_s: float) -> tuple[np.ndarray, np.ndarray, np.n
 def _autocorrelation(f: np.ndarray, df: np.ndarray, g: np.ndarray, tau: np.ndarray
                      ) -> np.ndarray:
     """R(τ) = ∫ G(f) cos(2πfτ) df of every row of ``g``: (rows, n_tau)."""
-    return np.atleast_2d(g * df) @ np.cos(2.0 * np.pi * np.outer(f, tau))
+    return np.atleast_2d(g * df) @ _cosines(f, tau)
+
+
+def _cosines(f: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """cos(2πfτ) (n_f × n_tau), kept for the last few grids (both directions of an estimate
+    use the same).
+    """
+    key = (np.ascontiguousarray(f, dtype=float).tobytes(),
+           np.ascontiguousarray(tau, dtype=float).tobytes())
+    return _cosines_cached(key)
+
+
+@functools.lru_cache(maxsize=4)
+def _cosines_cached(key: tuple[bytes, bytes]) -> np.ndarray:
+    f, tau = (np.frombuffer(k, dtype=float) for k in key)
+    n = tau.size
+    step = (tau[-1] - tau[0]) / (n - 1) if n > 1 else 0.0
+    if n < 4 or tau[0] != 0.0 or not np.allclose(tau, step * np.arange(n), rtol=0.0,
+                                                  atol=1e-12 * abs(tau[-1])):
+        out = np.cos(2.0 * np.pi * np.outer(f, tau))
+    else:
+        # e^{jθk} for k = b·k1 + k0 as e^{jθbk1}·e^{jθk0}: n complex products per frequency
+        # instead of n cosines (rounding 1e-13 of the argument's size)
+        b = int(np.ceil(np.sqrt(n)))
+        theta = 2.0 * np.pi * f * step
+        low = np.exp(1j * np.outer(theta, np.arange(b)))
+        high = np.exp(1j * np.outer(theta, b * np.arange(-(-n // b))))
+        out = (high[:, :, None] * low[:, None, :]).reshape(f.size, -1)[:, :n].real.copy()
+    out.setflags(write=False)
+    return out
 
 
 def nmv_block_p95(f: np.ndarray, df: np.ndarray, psd: np.ndarray, name: str,

@@ -32,25 +32,74 @@ from typing import Any
 import numpy as np
 
 from flexride.frequency.errors import LinearisationError
-from flexride.frequency.jacobians import irregularity_jacobians, state_jacobians
+from flexride.frequency.jacobians import irregularity_jacobians, refined_state_jacobians
 from flexride.frequency.lti import Modes, OutputMap, SecondOrderSystem
 from flexride.frequency.modes import ModeInfo, describe_modes
-from flexride.frequency.operating_point import OperatingPoint, operating_point
+from flexride.frequency.operating_point import (
+    OperatingPoint,
+    WarmStart,
+    check_contact,
+    solve_operating_point,
+)
 from flexride.frequency.reduce import TRACK_MODELS, Reduced, TrackModel, reduce_track
 from flexride.frequency.track_input import TrackSpectra, track_spectra
 from flexride.results import Channel
 from flexride.scenario.scenario import Scenario
 from flexride.solver import system as S
-from flexride.solver.assemble import assemble
+from flexride.solver.assemble import Assembly, assemble
 from flexride.solver.forces import frame_specific_force
-from flexride.solver.static import initial_window_start, static_equilibrium
+from flexride.solver.simulate import small_dense_problems
+from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.vehicle.topology import RecordedPoint, VehicleModel
 
-__all__ = ["LinearModel", "linear_model"]
+__all__ = ["LinearModel", "Linearisation", "linear_model", "linearise", "model_from"]
 
 #: A mode whose eigenvalue has a real part above this (1/s) makes the model unstable.
 UNSTABLE_RATE = 1e-3
 SIDES = ("left", "right")
+
+
+@dataclass
+class Linearisation:
+    """The full frozen-window system at the operating point, with the derivatives of the
+    wheel quantities: what a linear model is made from (and what a sweep reuses).
+
+    Attributes
+    ----------
+    op : OperatingPoint
+        The operating point.
+    full : SecondOrderSystem
+        Mass-normalised full system: K = −∂A/∂X (1/s²), C = −∂A/∂V (1/s), B0 = ∂A/∂u
+        (1/s²), B1 = ∂A/∂(du/ds)/V (1/s), B2 = 0.
+    mass : numpy.ndarray
+        (n,) diagonal generalised masses (kg, kg·m²).
+    daux_dX, daux_dV : numpy.ndarray
+        (n_ws·2·N_AUX, n) derivatives of the wheel quantities with respect to the coordinates
+        and the velocities.
+    daux_du : numpy.ndarray
+        (n_ws·2·N_AUX, 4·n_ws) the same with respect to the rail irregularities.
+    methods_x, methods_v : numpy.ndarray
+        (n,) how each column of ∂A/∂X and ∂A/∂V was differenced
+        (:func:`~flexride.frequency.jacobians.refined_state_jacobians`).
+    contact_op : OperatingPoint, optional
+        Where the contact's derivatives were differenced when that is not ``op`` (a sweep
+        that reused them, :mod:`flexride.frequency.rebuild`).
+    """
+
+    op: OperatingPoint
+    full: SecondOrderSystem
+    mass: np.ndarray
+    daux_dX: np.ndarray
+    daux_dV: np.ndarray
+    daux_du: np.ndarray
+    methods_x: np.ndarray
+    methods_v: np.ndarray
+    contact_op: OperatingPoint | None = None
+
+    @property
+    def contact_origin(self) -> OperatingPoint:
+        """The operating point the contact's derivatives were differenced at."""
+        return self.contact_op if self.contact_op is not None else self.op
 
 
 @dataclass
@@ -95,6 +144,10 @@ class LinearModel:
         Reasons the estimate may not hold (only with ``strict=False``).
     info : dict
         Operating point, sizes and timings.
+    linearisation : Linearisation, optional
+        The full system it was reduced from (kept for parameter sweeps).
+    reduced : Reduced, optional
+        The track reduction (kept for parameter sweeps).
     """
 
     scenario: Scenario
@@ -113,6 +166,8 @@ class LinearModel:
     quasi_static: dict[str, dict[str, float]]
     flags: list[str] = field(default_factory=list)
     info: dict[str, Any] = field(default_factory=dict)
+    linearisation: Linearisation | None = field(default=None, repr=False, compare=False)
+    reduced: Reduced | None = field(default=None, repr=False, compare=False)
 
     @property
     def duration(self) -> float:
@@ -135,19 +190,20 @@ class LinearModel:
                 "spectra": self.spectra.to_dict() if self.spectra else None}
 
 
-def _full_system(op: OperatingPoint) -> tuple[SecondOrderSystem, np.ndarray, np.ndarray,
-                                                np.ndarray]:
-    """Full frozen-window system at the operating point, and the derivatives of the wheel
-    quantities (aux) with respect to the coordinates and to the inputs.
+def linearise(op: OperatingPoint) -> Linearisation:
+    """Finite-difference Jacobians of the kernel's forces at ``op``: the full frozen-window
+    system and the derivatives of the wheel quantities.
     """
     sys, s, w0 = op.sys, op.s, op.s_win0
-    dA_dX, daux_dX = state_jacobians(sys, op.X0, op.V0, s, w0)
-    dA_dV, _ = state_jacobians(sys, op.X0, op.V0, s, w0, wrt_velocity=True)
+    dA_dX, daux_dX, methods_x = refined_state_jacobians(sys, op.X0, op.V0, s, w0)
+    dA_dV, daux_dV, methods_v = refined_state_jacobians(sys, op.X0, op.V0, s, w0,
+                                                        wrt_velocity=True)
     dA_du, daux_du = irregularity_jacobians(sys, op.X0, op.V0, s, w0)
     speed = float(sys.par.speed)
     full = SecondOrderSystem(K=-dA_dX, C=-dA_dV, B0=dA_du[:, 0::2].copy(),
                              B1=dA_du[:, 1::2] / speed, B2=np.zeros_like(dA_du[:, 0::2]))
-    return full, daux_dX, daux_du[:, 0::2].copy(), 1.0 / sys.minv
+    return Linearisation(op, full, 1.0 / sys.minv, daux_dX, daux_dV,
+                         daux_du[:, 0::2].copy(), methods_x, methods_v)
 
 
 def _acceleration_outputs(op: OperatingPoint, veh: VehicleModel, n: int) -> tuple[
@@ -224,7 +280,8 @@ def _check_stable(modes: Modes, info: list[ModeInfo]) -> None:
 
 
 def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
-                 vehicle: VehicleModel | None = None, strict: bool = True) -> LinearModel:
+                 vehicle: VehicleModel | None = None, strict: bool = True,
+                 sources: MeasuredSources = LIBRARY) -> LinearModel:
     """Linearise ``scenario`` about its steady state on smooth track.
 
     Parameters
@@ -240,6 +297,8 @@ def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
         Raise :class:`LinearisationError` where the linearisation does not hold (flange
         contact at equilibrium, a non-random excitation); with False those become ``flags``
         and the model is built anyway (an unstable system always raises).
+    sources : MeasuredSources
+        Where uploaded wheel and rail profiles are read from (default: files by path).
 
     Returns
     -------
@@ -249,24 +308,73 @@ def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
     ------
     LinearisationError
         See ``strict``; also when no steady state exists or the system is unstable.
+
+    Notes
+    -----
+    BLAS runs on one thread meanwhile (dense problems of a few hundred unknowns: threads
+    competing on a loaded machine made them several times slower).
     """
+    check_track_model(track)
+    with small_dense_problems():
+        t0 = time.perf_counter()
+        flags: list[str] = []
+        spectra = spectra_or_flag(scenario, strict, flags)
+        asm = assemble(smooth_scenario(scenario), vehicle=vehicle, sources=sources)
+        op = operating_point_or_flag(scenario, asm, strict, flags)
+        t1 = time.perf_counter()
+        return model_from(scenario, linearise(op), track, spectra, flags, (t0, t1))
+
+
+def check_track_model(track: str) -> None:
+    """Refuse an unknown track model (:class:`LinearisationError`, reason ``track``)."""
     if track not in TRACK_MODELS:
         raise LinearisationError(f"unknown track model {track!r}; use one of "
                                  f"{', '.join(TRACK_MODELS)}", "track")
-    t0 = time.perf_counter()
-    flags: list[str] = []
-    spectra = _spectra_or_flag(scenario, strict, flags)
-    asm = assemble(scenario.model_copy(update={"excitation": []}), vehicle=vehicle)
-    op = _operating_point_or_flag(scenario, asm, strict, flags)
-    t1 = time.perf_counter()
-    full, daux_dX, daux_du, mass = _full_system(op)
-    veh = asm.vehicle
+
+
+def smooth_scenario(scenario: Scenario) -> Scenario:
+    """``scenario`` without its excitations: what is assembled for the linearisation."""
+    return scenario.model_copy(update={"excitation": []})
+
+
+def model_from(scenario: Scenario, lin: Linearisation, track: TrackModel,
+               spectra: TrackSpectra | None, flags: list[str], times: tuple[float, float],
+               previous: LinearModel | None = None) -> LinearModel:
+    """The linear model of ``scenario`` from its linearisation: outputs, track reduction,
+    eigenmodes and their names, the stability check.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario.
+    lin : Linearisation
+        Its full system at the operating point.
+    track : {"condensed", "modal", "rigid"}
+        Track model.
+    spectra : TrackSpectra or None
+        Its random irregularity.
+    flags : list of str
+        Reasons the estimate may not hold.
+    times : (float, float)
+        ``time.perf_counter()`` at the start and after the operating point (s).
+    previous : LinearModel, optional
+        The model of a scenario with the same rail rows and columns (parameter sweeps): its
+        track condensation is reused when it fits.
+
+    Raises
+    ------
+    LinearisationError
+        The system is unstable.
+    """
+    op, full = lin.op, lin.full
+    veh = op.asm.vehicle
     acc, qs = _acceleration_outputs(op, veh, full.n)
-    wheels, static = _wheel_outputs(op, veh, daux_dX, daux_du)
-    red: Reduced = reduce_track(full, mass, int(op.sys.par.n_veh), track)
+    wheels, static = _wheel_outputs(op, veh, lin.daux_dX, lin.daux_du)
+    red: Reduced = reduce_track(full, lin.mass, int(op.sys.par.n_veh), track,
+                                previous.reduced if previous is not None else None)
     t2 = time.perf_counter()
     modes = red.system.modes()
-    names = [asm.dof_names[i] if i >= 0 else f"rail.head{-i}" for i in red.keep]
+    names = [op.asm.dof_names[i] if i >= 0 else f"rail.head{-i}" for i in red.keep]
     info = describe_modes(modes, red.mass, names, veh)
     _check_stable(modes, info)
     t3 = time.perf_counter()
@@ -278,11 +386,12 @@ def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
         modes=modes, mode_info=info, spectra=spectra, quasi_static=qs, flags=flags,
         info={"position_m": op.s, "on_arc": op.on_arc, "rail_window_start_m": op.s_win0,
               "n_dof_full": full.n, "n_dof": red.system.n,
-              "time_operating_point_s": t1 - t0, "time_linearise_s": t2 - t1,
-              "time_modes_s": t3 - t2})
+              "time_operating_point_s": times[1] - times[0],
+              "time_linearise_s": t2 - times[1], "time_modes_s": t3 - t2},
+        linearisation=lin, reduced=red)
 
 
-def _spectra_or_flag(scenario: Scenario, strict: bool, flags: list[str]) -> TrackSpectra | None:
+def spectra_or_flag(scenario: Scenario, strict: bool, flags: list[str]) -> TrackSpectra | None:
     """The scenario's random irregularities; a non-random excitation raises or is flagged."""
     try:
         return track_spectra(scenario)
@@ -295,21 +404,16 @@ def _spectra_or_flag(scenario: Scenario, strict: bool, flags: list[str]) -> Trac
         return track_spectra(random_only) if random_only.excitation else None
 
 
-def _operating_point_or_flag(scenario: Scenario, asm, strict: bool,
-                             flags: list[str]) -> OperatingPoint:
-    """The operating point; with ``strict=False`` flange contact or a lost contact is a flag."""
-    from flexride.frequency import operating_point as opm
-
+def operating_point_or_flag(scenario: Scenario, asm: Assembly, strict: bool, flags: list[str],
+                            warm: WarmStart | None = None) -> OperatingPoint:
+    """The operating point (from ``warm`` when given); with ``strict=False`` flange contact or
+    a lost contact there is a flag instead of an error.
+    """
+    op = solve_operating_point(scenario, asm, warm)
     try:
-        return operating_point(scenario, asm)
+        check_contact(op.asm, op.X0, op.aux)
     except LinearisationError as err:
         if strict or err.reason not in ("flange_contact", "contact_loss"):
             raise
         flags.append(str(err))
-    s, on_arc = opm.linearisation_position(scenario, asm)
-    smooth = opm.smooth_assembly(asm, s)
-    s_win0 = initial_window_start(smooth, s)
-    X = static_equilibrium(smooth, s, s_win0)
-    X, V = opm.steady_state(smooth, s, s_win0, X)
-    return OperatingPoint(smooth, s, s_win0, X, V, opm.wheel_state(smooth, X, V, s, s_win0),
-                          on_arc)
+    return op

@@ -107,16 +107,30 @@ def describe_modes(modes: Modes, mass: np.ndarray, names: list[str],
     energy = mass[:, None] * np.abs(phi) ** 2
     share = energy / np.maximum(energy.sum(axis=0, keepdims=True), 1e-300)
     lam = modes.lam
+    freq, fd, zeta = modes.frequency_hz, modes.damped_frequency_hz, modes.damping_ratio
+    partners = _partners(lam)
+    order = np.argsort(-share, axis=0, kind="stable")[:3]
+    labels: dict[str, str] = {}
     out = []
     for k in range(lam.size):
-        order = np.argsort(share[:, k])[::-1]
-        dom = [(names[i], float(share[i, k])) for i in order[:3] if share[i, k] >= MIN_SHARE]
+        top = order[:, k]
+        dom = [(names[i], float(share[i, k])) for i in top if share[i, k] >= MIN_SHARE]
         if not dom:
-            dom = [(names[order[0]], float(share[order[0], k]))]
-        label = " + ".join(coordinate_label(c, vehicle) for c, _ in dom[:2])
-        partner = int(np.argmin(np.abs(lam - np.conj(lam[k])))) if lam[k].imag != 0 else k
-        out.append(ModeInfo(k, float(modes.frequency_hz[k]),
-                            float(modes.damped_frequency_hz[k]),
-                            float(modes.damping_ratio[k]), dom, label,
-                            representative=bool(lam[k].imag >= 0.0), partner=partner))
+            dom = [(names[top[0]], float(share[top[0], k]))]
+        label = " + ".join(_label(c, vehicle, labels) for c, _ in dom[:2])
+        out.append(ModeInfo(k, float(freq[k]), float(fd[k]), float(zeta[k]), dom, label,
+                            representative=bool(lam[k].imag >= 0.0), partner=int(partners[k])))
     return out
+
+
+def _partners(lam: np.ndarray) -> np.ndarray:
+    """Index of each eigenvalue's complex conjugate (itself for a real eigenvalue)."""
+    dist = np.abs(lam[:, None] - np.conj(lam)[None, :])
+    return np.where(lam.imag != 0, np.argmin(dist, axis=1), np.arange(lam.size))
+
+
+def _label(name: str, vehicle: VehicleModel | None, cache: dict[str, str]) -> str:
+    """:func:`coordinate_label`, once per name."""
+    if name not in cache:
+        cache[name] = coordinate_label(name, vehicle)
+    return cache[name]

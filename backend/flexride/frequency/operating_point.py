@@ -18,6 +18,7 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as sla
 
 from flexride.frequency.errors import LinearisationError
 from flexride.scenario.line import CurvedLine
@@ -32,6 +33,17 @@ from flexride.solver.static import initial_window_start, static_equilibrium
 IRR_GRID_STEP = 0.05
 #: Newton tolerance of the steady state: largest coordinate step (m, rad, m/s).
 STEADY_TOL = 1e-10
+#: A warm start (chord iterations) stops at this largest step (m, rad, m/s): far below
+#: STEADY_TOL, so that it lands on the root a cold Newton solution finds, to rounding.
+CHORD_TOL = 1e-13
+#: Chord iterations before a warm start gives up (Newton from the previous state follows).
+CHORD_MAX_ITER = 30
+#: Steady-state coordinates and velocities smaller than this (m, rad, m/s, rad/s) are the
+#: rounding of an exact zero (a centred wheelset on straight track) and are set to zero: the
+#: Jacobians' central differences straddle the kink of the tabulated contact geometry at a
+#: centred wheelset, so they would otherwise depend on that rounding (a sweep's comfort
+#: indices differed from a rebuild by 1e-10 instead of 3e-11).
+ZERO_TOL = 1e-13
 
 
 @dataclass
@@ -54,6 +66,9 @@ class OperatingPoint:
         Per-wheel quantities at the steady state, ``[wheelset, side, AUX_*]`` (N, m, rad).
     on_arc : bool
         Whether the point lies on the arc of a curve (steady curving).
+    chord_iterations : int
+        Chord iterations of a warm start that converged; −1 when solved from the static
+        equilibrium (cold start), −2 by Newton from a warm start's state.
     """
 
     asm: Assembly
@@ -63,11 +78,53 @@ class OperatingPoint:
     V0: np.ndarray
     aux: np.ndarray
     on_arc: bool
+    chord_iterations: int = -1
 
     @property
     def sys(self) -> S.SystemArrays:
         """The kernel's arrays on smooth track."""
         return self.asm.sys
+
+
+@dataclass
+class WarmStart:
+    """A steady state of a system with the same coordinates (the previous value of a
+    parameter sweep) and the factorised Newton matrix there, for chord iterations.
+
+    Attributes
+    ----------
+    X, V : numpy.ndarray
+        Coordinates (m, rad) and velocities (m/s, rad/s) of the previous steady state.
+    s, s_win0 : float
+        Its position and rail-window start (m).
+    lu : tuple
+        ``scipy.linalg.lu_factor`` of the steady-state Newton matrix (force units): the
+        columns of ∂A/∂X of every coordinate but the spin angles and of ∂A/∂V of the spin
+        rates, rows scaled by the masses.
+    """
+
+    X: np.ndarray
+    V: np.ndarray
+    s: float
+    s_win0: float
+    lu: tuple[np.ndarray, np.ndarray]
+
+
+def warm_start(op: OperatingPoint, dA_dX: np.ndarray, dA_dV: np.ndarray) -> WarmStart:
+    """The warm start of the next sweep value from ``op`` (one LU factorisation, 5 ms for
+    486 coordinates).
+
+    Parameters
+    ----------
+    op : OperatingPoint
+        The steady state.
+    dA_dX, dA_dV : numpy.ndarray
+        (n, n) ∂A/∂X (1/s²) and ∂A/∂V (1/s) there, as the linear model has them.
+    """
+    keep, spin = _steady_unknowns(op.asm)
+    scale = 1.0 / op.sys.minv
+    J = np.hstack([dA_dX[:, keep], dA_dV[:, spin]]) * scale[:, None]
+    return WarmStart(op.X0.copy(), op.V0.copy(), op.s, op.s_win0, sla.lu_factor(J))
 
 
 def linearisation_position(scenario: Scenario, asm: Assembly) -> tuple[float, bool]:
@@ -107,6 +164,56 @@ def _spin_indices(asm: Assembly) -> np.ndarray:
     """State indices of the wheelsets' spin perturbation (their pitch coordinate)."""
     sys = asm.sys
     return np.array([int(sys.body_off[b]) + 4 for b in asm.vehicle.wheelsets], dtype=np.int64)
+
+
+def _steady_unknowns(asm: Assembly) -> tuple[np.ndarray, np.ndarray]:
+    """State indices solved for as coordinates (all but the spin angles) and as velocities
+    (the spin rates) in the steady state.
+    """
+    spin = _spin_indices(asm)
+    return np.setdiff1d(np.arange(asm.sys.minv.shape[0]), spin), spin
+
+
+def chord_steady_state(asm: Assembly, s: float, s_win0: float, warm: WarmStart
+                       ) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """The steady state at ``s`` by chord iterations from ``warm`` (its Newton matrix kept):
+    converges linearly at the rate the system changed since ``warm``, without a Jacobian (an
+    iteration is one force evaluation and two triangular solves).
+
+    Parameters
+    ----------
+    asm : Assembly
+        The assembly on smooth track (the same coordinates as ``warm``).
+    s, s_win0 : float
+        Vehicle-centre position and rail-window start (m), those of ``warm``.
+    warm : WarmStart
+        The previous steady state and its Newton matrix.
+
+    Returns
+    -------
+    (X, V, iterations) or None
+        The steady state (m, rad; m/s, rad/s; steps below :data:`CHORD_TOL`) and the iterations
+        it took, or None when the steps stop shrinking or :data:`CHORD_MAX_ITER` is reached.
+    """
+    sys = asm.sys
+    keep, spin = _steady_unknowns(asm)
+    scale = 1.0 / sys.minv
+    X, V = warm.X.copy(), warm.V.copy()
+    last = np.inf
+    for it in range(CHORD_MAX_ITER):
+        r = accelerations(sys, X, V, s, s_win0) * scale
+        if not np.all(np.isfinite(r)):
+            return None
+        dz = sla.lu_solve(warm.lu, -r)
+        step = float(np.max(np.abs(dz)))
+        if not step < last:  # not contracting (or not finite): leave it to Newton
+            return None
+        last = step
+        X[keep] += dz[: keep.size]
+        V[spin] += dz[keep.size:]
+        if step < CHORD_TOL:
+            return X, V, it + 1
+    return None
 
 
 def steady_state(asm: Assembly, s: float, s_win0: float, X: np.ndarray,
@@ -194,6 +301,61 @@ def check_contact(asm: Assembly, X: np.ndarray, aux: np.ndarray) -> None:
                     "flange_contact")
 
 
+def solve_operating_point(scenario: Scenario, asm: Assembly,
+                          warm: WarmStart | None = None) -> OperatingPoint:
+    """The linearisation point of ``scenario`` (assembled as ``asm``), without the contact
+    check: from the static equilibrium, or from ``warm`` (the previous value of a sweep: chord
+    iterations, then Newton from it if they stall, then the cold start). Entries below
+    :data:`ZERO_TOL` are set to zero.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario (its line gives the position).
+    asm : Assembly
+        Its assembly.
+    warm : WarmStart, optional
+        A previous steady state of the same coordinates.
+
+    Raises
+    ------
+    LinearisationError
+        No steady state.
+    """
+    s, on_arc = linearisation_position(scenario, asm)
+    smooth = smooth_assembly(asm, s)
+    s_win0 = initial_window_start(smooth, s)
+    XVi = _from_warm(smooth, s, s_win0, warm) if warm is not None else None
+    if XVi is None:
+        X = static_equilibrium(smooth, s, s_win0)
+        XVi = (*steady_state(smooth, s, s_win0, X), -1)
+    X, V, iterations = XVi
+    X, V = _snap(X), _snap(V)
+    aux = wheel_state(smooth, X, V, s, s_win0)
+    return OperatingPoint(smooth, s, s_win0, X, V, aux, on_arc, iterations)
+
+
+def _snap(x: np.ndarray) -> np.ndarray:
+    """``x`` with entries below :data:`ZERO_TOL` in magnitude set to zero."""
+    return np.where(np.abs(x) < ZERO_TOL, 0.0, x)
+
+
+def _from_warm(asm: Assembly, s: float, s_win0: float, warm: WarmStart
+               ) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """Steady state from a previous one of the same layout (and the chord iterations, −2
+    after Newton from it), or None (then a cold start).
+    """
+    if warm.X.shape != (asm.sys.minv.shape[0],) or (warm.s, warm.s_win0) != (s, s_win0):
+        return None
+    XVi = chord_steady_state(asm, s, s_win0, warm)
+    if XVi is None:
+        try:
+            return (*steady_state(asm, s, s_win0, warm.X.copy()), -2)
+        except (LinearisationError, np.linalg.LinAlgError):
+            return None
+    return XVi
+
+
 def operating_point(scenario: Scenario, asm: Assembly) -> OperatingPoint:
     """The linearisation point of ``scenario`` (assembled as ``asm``).
 
@@ -202,11 +364,6 @@ def operating_point(scenario: Scenario, asm: Assembly) -> OperatingPoint:
     LinearisationError
         No steady state, lost contact or flange contact at the steady state.
     """
-    s, on_arc = linearisation_position(scenario, asm)
-    smooth = smooth_assembly(asm, s)
-    s_win0 = initial_window_start(smooth, s)
-    X = static_equilibrium(smooth, s, s_win0)
-    X, V = steady_state(smooth, s, s_win0, X)
-    aux = wheel_state(smooth, X, V, s, s_win0)
-    check_contact(smooth, X, aux)
-    return OperatingPoint(smooth, s, s_win0, X, V, aux, on_arc)
+    op = solve_operating_point(scenario, asm)
+    check_contact(op.asm, op.X0, op.aux)
+    return op

@@ -30,7 +30,8 @@ from flexride.frequency.lti import OutputMap
 from flexride.frequency.model import LinearModel
 from flexride.frequency.track_input import TrackSpectra
 
-__all__ = ["ResponseSpectra", "channel_frf", "response", "select_channels"]
+__all__ = ["ResponseSpectra", "channel_frf", "modal_input", "output_response", "response",
+           "select_channels"]
 
 
 @dataclass
@@ -106,11 +107,14 @@ class ResponseSpectra:
             twice (add the partner's share).
         """
         w = 2.0 * np.pi * self.frequencies
+        nf, nc, no = self._Y.shape
         z = np.conj(self._Y) * (self.input_psd.T[:, :, None] * self.weights[:, None, None]
                                 * weight2.T[:, None, :])
         om, gm = self._rows
-        a = np.einsum("fco,fck->ok", z * (-(w**2))[:, None, None], self._eta)
-        b = np.einsum("fco,fck->ok", z, self._eta)
+        zf = z.reshape(nf * nc, no)
+        eta = self._eta.reshape(nf * nc, -1)
+        a = (zf * np.repeat(-(w**2), nc)[:, None]).T @ eta
+        b = zf.T @ eta
         total = np.einsum("fco,fco->o", z, self._Y).real
         return (a * om + b * gm).real / np.maximum(total, 1e-300)[:, None]
 
@@ -150,9 +154,77 @@ def select_channels(model: LinearModel, points: Sequence[str] | None) -> list[st
     return out
 
 
+def _power(Y: np.ndarray) -> np.ndarray:
+    """|Y|² of a complex array."""
+    return Y.real**2 + Y.imag**2
+
+
 def _sub(out: OutputMap, names: list[str]) -> OutputMap:
     idx = [out.names.index(n) for n in names]
     return OutputMap(names, out.P[idx], out.G[idx], out.D[idx])
+
+
+def modal_input(model: LinearModel, f: np.ndarray, rail_maps: np.ndarray) -> np.ndarray:
+    """Modal coordinates per unit irregularity component, wheelset delays included:
+    η_ck(ω) = l_k Σ_w B(ω) t_c e^{−jωτ_w} / (jω − λ_k).
+
+    Parameters
+    ----------
+    model : LinearModel
+        The model.
+    f : numpy.ndarray
+        (n_f,) frequencies (Hz).
+    rail_maps : numpy.ndarray
+        (n_comp, 4) rail irregularities per unit component.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_f, n_comp, n_modes) complex.
+    """
+    sys, modes = model.system, model.modes
+    n, nw, nc = sys.n, model.wheelset_x.size, rail_maps.shape[0]
+    nk = modes.lam.size
+    w = 2.0 * np.pi * np.asarray(f, dtype=float)
+    E = np.exp(-1j * np.outer(w, model.delays()))
+    lv = modes.left[:, n:]
+    eta = np.zeros((w.size, nc * nk), dtype=complex)
+    for k, B in enumerate((sys.B0, sys.B1, sys.B2)):
+        if not np.any(B):
+            continue
+        a = np.einsum("kwr,cr->wck", (lv @ B).reshape(-1, nw, 4), rail_maps).reshape(nw, -1)
+        term = E @ a
+        eta += term if k == 0 else (1j * w[:, None]) ** k * term
+    resolvent = 1.0 / (1j * w[:, None] - modes.lam[None, :])
+    return eta.reshape(w.size, nc, nk) * resolvent[:, None, :]
+
+
+def output_response(model: LinearModel, out: OutputMap, f: np.ndarray, rail_maps: np.ndarray,
+                    eta: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """Outputs per unit irregularity component from the modal coordinates ``eta``
+    (:func:`modal_input`).
+
+    Returns
+    -------
+    Y : numpy.ndarray
+        (n_f, n_comp, n_out) complex response per unit component.
+    rows : (numpy.ndarray, numpy.ndarray)
+        Modal output rows (n_out, n_modes) of the ω² term and of the displacement term.
+    """
+    modes, n, nw = model.modes, model.system.n, model.wheelset_x.size
+    w = 2.0 * np.pi * np.asarray(f, dtype=float)
+    om = out.P @ modes.right[:n]
+    gm = out.G @ modes.right[:n]
+    flat = eta.reshape(-1, eta.shape[2])
+    Y = flat @ gm.T
+    if np.any(out.P):
+        Y -= np.repeat(w**2, eta.shape[1])[:, None] * (flat @ om.T)
+    Y = Y.reshape(eta.shape[0], eta.shape[1], -1)
+    if np.any(out.D):
+        E = np.exp(-1j * np.outer(w, model.delays()))
+        d = np.einsum("owr,cr->wco", out.D.reshape(len(out.names), nw, 4), rail_maps)
+        Y += (E @ d.reshape(nw, -1)).reshape(Y.shape)
+    return Y, (om, gm)
 
 
 def channel_frf(model: LinearModel, out: OutputMap, f: np.ndarray, rail_maps: np.ndarray
@@ -168,25 +240,9 @@ def channel_frf(model: LinearModel, out: OutputMap, f: np.ndarray, rail_maps: np
     rows : (numpy.ndarray, numpy.ndarray)
         Modal output rows (n_out, n_modes) of the ω² term and of the displacement term.
     """
-    sys, modes = model.system, model.modes
-    n, nw = sys.n, model.wheelset_x.size
-    w = 2.0 * np.pi * np.asarray(f, dtype=float)
-    E = np.exp(-1j * np.outer(w, model.delays()))
-    lv = modes.left[:, n:]
-    eta = np.zeros((w.size, rail_maps.shape[0], modes.lam.size), dtype=complex)
-    for k, B in enumerate((sys.B0, sys.B1, sys.B2)):
-        if not np.any(B):
-            continue
-        a = np.einsum("kwr,cr->cwk", (lv @ B).reshape(-1, nw, 4), rail_maps)
-        eta += (1j * w[:, None, None]) ** k * np.einsum("fw,cwk->fck", E, a)
-    eta /= 1j * w[:, None, None] - modes.lam[None, None, :]
-    om = out.P @ modes.right[:n]
-    gm = out.G @ modes.right[:n]
-    Y = -(w**2)[:, None, None] * (eta @ om.T) + eta @ gm.T
-    if np.any(out.D):
-        d = np.einsum("owr,cr->cow", out.D.reshape(len(out.names), nw, 4), rail_maps)
-        Y += np.einsum("fw,cow->fco", E, d)
-    return Y, eta, (om, gm)
+    eta = modal_input(model, f, rail_maps)
+    Y, rows = output_response(model, out, f, rail_maps, eta)
+    return Y, eta, rows
 
 
 def response(model: LinearModel, spectra: TrackSpectra | None = None,
@@ -223,9 +279,10 @@ def response(model: LinearModel, spectra: TrackSpectra | None = None,
     channels = select_channels(model, points)
     maps = spectra.rail_maps()
     g = spectra.psd(f, model.speed)
-    Y, eta, rows = channel_frf(model, _sub(model.accelerations, channels), f, maps)
-    by_comp = (np.abs(Y) ** 2).transpose(1, 2, 0) * g[:, None, :]
-    Yw, _e, _r = channel_frf(model, model.wheels, f, maps)
-    wheel = ((np.abs(Yw) ** 2).transpose(1, 2, 0) * g[:, None, :]).sum(axis=0)
+    eta = modal_input(model, f, maps)
+    Y, rows = output_response(model, _sub(model.accelerations, channels), f, maps, eta)
+    by_comp = _power(Y).transpose(1, 2, 0) * g[:, None, :]
+    Yw, _r = output_response(model, model.wheels, f, maps, eta)
+    wheel = (_power(Yw).transpose(1, 2, 0) * g[:, None, :]).sum(axis=0)
     return ResponseSpectra(model, spectra, f, channels, by_comp.sum(axis=0), by_comp, g,
                            list(model.wheels.names), wheel, eta, rows, Y)

@@ -1,8 +1,11 @@
 """``sweep(scenario, parameter_path, values)``: the comfort estimate over values of one
 scenario field (dotted path, as ``--set`` takes it: ``speed_kmh``,
-``vehicle.secondary.kz``…). Per value the scenario is re-validated and the linear model
-rebuilt (assembly, steady state, Jacobians, condensation, modes); a vehicle with flexible
-bodies is reused unless the path changes the vehicle, its bodies or its output points.
+``vehicle.secondary.kz``…). Per value the scenario is re-validated and its linear model rebuilt
+reusing what the value does not change (:mod:`flexride.frequency.rebuild`: contact tables,
+the previous steady state as the start of the next, the Jacobians but for the rows and columns
+of a changed suspension element, the track condensation); the results equal a rebuild from
+scratch (``reuse=False``) to rounding. A vehicle with flexible bodies is built once unless the
+path changes the vehicle, its bodies or its output points.
 """
 
 from __future__ import annotations
@@ -12,14 +15,21 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from flexride.errors import FlexrideError
-from flexride.frequency.comfort import ComfortTable
+from flexride.frequency.comfort import ComfortTable, comfort
 from flexride.frequency.estimate import estimate
+from flexride.frequency.rebuild import ModelRebuilder
 from flexride.frequency.reduce import TrackModel
+from flexride.frequency.response import response
 from flexride.scenario.scenario import Scenario, apply_overrides, scenario_from_dict
 from flexride.solver.assemble import vehicle_for
+from flexride.solver.simulate import small_dense_problems
+from flexride.track.measured import LIBRARY, MeasuredSources
+from flexride.vehicle.topology import VehicleModel
 
-__all__ = ["SweepResult", "sweep"]
+__all__ = ["SweepResult", "sweep", "sweep_scenarios"]
 
 _VEHICLE_PATHS = ("vehicle", "bodies", "output")
 
@@ -38,15 +48,22 @@ class SweepResult:
         One per value (None where the estimate was refused).
     errors : list of str or None
         Why a value was refused (its :class:`LinearisationError` or scenario error).
+    reasons : list of str or None
+        The refusal's key (:attr:`LinearisationError.reason`, else the error's class name).
     seconds : float
         Wall time of the whole sweep (s).
+    reuse : dict of str to int
+        What the rebuilds reused and what they made anew
+        (:attr:`flexride.frequency.rebuild.ModelRebuilder.stats`; empty without reuse).
     """
 
     parameter: str
     values: list[Any]
     tables: list[ComfortTable | None]
     errors: list[str | None] = field(default_factory=list)
+    reasons: list[str | None] = field(default_factory=list)
     seconds: float = 0.0
+    reuse: dict[str, int] = field(default_factory=dict)
 
     def series(self, point: str, direction: str, quantity: str = "sperling") -> list[float | None]:
         """One index against the values: ``quantity`` a field of DirectionComfort (``rms``,
@@ -65,32 +82,99 @@ class SweepResult:
         """JSON form."""
         return {"parameter": self.parameter, "values": list(self.values),
                 "tables": [t.to_dict() if t is not None else None for t in self.tables],
-                "errors": list(self.errors), "seconds": self.seconds}
+                "errors": list(self.errors), "reasons": list(self.reasons),
+                "seconds": self.seconds, "reuse": dict(self.reuse)}
 
 
 def sweep(scenario: Scenario, parameter_path: str, values: Sequence[Any],
-          points: Sequence[str] | None = None, track: TrackModel = "condensed") -> SweepResult:
+          points: Sequence[str] | None = None, track: TrackModel = "condensed", *,
+          strict: bool = True, reuse: bool = True,
+          sources: MeasuredSources = LIBRARY) -> SweepResult:
     """Estimate the comfort of ``scenario`` with ``parameter_path`` set to each of ``values``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The base scenario.
+    parameter_path : str
+        Dotted path of the field (``vehicle.secondary.kz``).
+    values : sequence
+        Its values (in the field's units).
+    points : sequence of str, optional
+        Points (default every car-body point).
+    track : {"condensed", "modal", "rigid"}
+        Track model.
+    strict : bool
+        See :func:`~flexride.frequency.model.linear_model`.
+    reuse : bool
+        Rebuild reusing what a value does not change (default); False rebuilds every model
+        from scratch (:func:`~flexride.frequency.estimate.estimate`, the reference).
+    sources : MeasuredSources
+        Where uploaded profiles are read from.
 
     Raises
     ------
     ScenarioError
         The path or a value makes an invalid scenario (located message).
     """
-    t0 = time.perf_counter()
     data = scenario.model_dump(mode="json")
-    reuse = parameter_path.split(".")[0] not in _VEHICLE_PATHS
-    flexible = any(getattr(scenario.bodies, b).model == "flexible" for b in ("carbody", "frames"))
-    vehicle = vehicle_for(scenario) if reuse and flexible else None
+    scenarios = [scenario_from_dict(apply_overrides(data, {parameter_path: v}),
+                                    source=f"{parameter_path} = {v!r}") for v in values]
+    vehicle_reusable = parameter_path.split(".")[0] not in _VEHICLE_PATHS
+    return sweep_scenarios(scenarios, parameter_path, list(values), points, track,
+                           strict=strict, reuse=reuse, sources=sources,
+                           share_vehicle=vehicle_reusable)
+
+
+def sweep_scenarios(scenarios: Sequence[Scenario], parameter: str, values: list[Any],
+                    points: Sequence[str] | None = None, track: TrackModel = "condensed", *,
+                    strict: bool = True, reuse: bool = True,
+                    sources: MeasuredSources = LIBRARY,
+                    share_vehicle: bool = False) -> SweepResult:
+    """The comfort estimates of ``scenarios`` (validated, one per value of ``parameter``), in
+    order; a refused value gives None and its reason.
+
+    Parameters
+    ----------
+    scenarios : sequence of Scenario
+        The scenarios, one per value.
+    parameter : str
+        Dotted path of the swept field (for the result).
+    values : list
+        Its values (for the result).
+    points, track, strict, reuse, sources :
+        See :func:`sweep`.
+    share_vehicle : bool
+        The scenarios have the same vehicle (built once when it has flexible bodies).
+    """
+    t0 = time.perf_counter()
+    vehicle = _shared_vehicle(scenarios[0]) if share_vehicle and scenarios else None
+    rebuilder = ModelRebuilder(track, strict, sources) if reuse else None
     tables: list[ComfortTable | None] = []
     errors: list[str | None] = []
-    for v in values:
-        sc = scenario_from_dict(apply_overrides(data, {parameter_path: v}),
-                                source=f"{parameter_path} = {v!r}")
-        try:
-            tables.append(estimate(sc, points, track, vehicle=vehicle).comfort)
-            errors.append(None)
-        except FlexrideError as err:
-            tables.append(None)
-            errors.append(str(err))
-    return SweepResult(parameter_path, list(values), tables, errors, time.perf_counter() - t0)
+    reasons: list[str | None] = []
+    with small_dense_problems():
+        for sc in scenarios:
+            try:
+                if rebuilder is None:
+                    tables.append(estimate(sc, points, track, strict=strict, vehicle=vehicle,
+                                           sources=sources).comfort)
+                else:
+                    tables.append(comfort(response(rebuilder.model(sc, vehicle),
+                                                   points=points)))
+                errors.append(None)
+                reasons.append(None)
+            except (FlexrideError, np.linalg.LinAlgError) as err:
+                tables.append(None)
+                errors.append(str(err) if isinstance(err, FlexrideError) else
+                              f"the linearised system is singular ({err})")
+                reasons.append(getattr(err, "reason", type(err).__name__))
+    stats = dict(rebuilder.stats) if rebuilder is not None else {}
+    return SweepResult(parameter, values, tables, errors, reasons, time.perf_counter() - t0,
+                       stats)
+
+
+def _shared_vehicle(scenario: Scenario) -> VehicleModel | None:
+    """The vehicle of ``scenario`` when it has flexible bodies (worth building once)."""
+    flexible = any(getattr(scenario.bodies, b).model == "flexible" for b in ("carbody", "frames"))
+    return vehicle_for(scenario) if flexible else None

@@ -5,8 +5,9 @@ Runs once per scenario in NumPy; nothing here is in the time loop.
 
 from __future__ import annotations
 
+from collections.abc import MutableMapping
 from dataclasses import dataclass, field
-from typing import Literal, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
@@ -657,8 +658,40 @@ def _system_arrays(par: S.Scalars, veh: VehicleModel, rail: RailModel, dofs: _Do
     )
 
 
+def contact_key(scenario: Scenario, veh: VehicleModel) -> str:
+    """What the contact tables of an assembly are made from (:func:`_contact`): the
+    ``contact`` section, the wheel radius, the rolling-circle distance and the rail's Young's
+    modulus.
+    """
+    return "|".join([scenario.contact.model_dump_json(), repr(float(veh.wheel_radius)),
+                     repr(float(veh.rolling_circle_half_distance)),
+                     repr(float(scenario.track.rail.youngs_modulus))])
+
+
+#: Contact tables a caller's ``contact_tables`` mapping keeps at most.
+MAX_KEPT_CONTACTS = 4
+
+
+def _kept_contact(scenario: Scenario, veh: VehicleModel, sources: MeasuredSources,
+                  kept: MutableMapping[str, Any] | None) -> _Contact:
+    """The contact tables of ``scenario``: from ``kept`` when made from the same inputs
+    (:func:`contact_key`), else made (and kept, oldest out beyond :data:`MAX_KEPT_CONTACTS`).
+    """
+    if kept is None:
+        return _contact(scenario, veh, sources)
+    key = contact_key(scenario, veh)
+    contact = kept.get(key)
+    if contact is None:
+        contact = _contact(scenario, veh, sources)
+        while len(kept) >= MAX_KEPT_CONTACTS:
+            kept.pop(next(iter(kept)))
+        kept[key] = contact
+    return contact
+
+
 def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
-             sources: MeasuredSources = LIBRARY) -> Assembly:
+             sources: MeasuredSources = LIBRARY,
+             contact_tables: MutableMapping[str, Any] | None = None) -> Assembly:
     """Build the SystemArrays of ``scenario``.
 
     Parameters
@@ -669,6 +702,9 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         A prebuilt vehicle (e.g. with flexible bodies); built from the scenario otherwise.
     sources : MeasuredSources
         Where measured irregularities may be read from (default: files by path).
+    contact_tables : mutable mapping, optional
+        Contact tables kept between assemblies by the caller (e.g. the runs of a parameter
+        sweep): a table made from the same inputs is taken from it, a new one is put in.
 
     Returns
     -------
@@ -680,7 +716,7 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
     dofs = _dof_layout(veh, rail)
     diagonals = _diagonals(veh, rail, dofs)
     susp = _suspension(veh)
-    contact = _contact(scenario, veh, sources)
+    contact = _kept_contact(scenario, veh, sources, contact_tables)
     line, irr = _route(scenario, veh, sources)
 
     n_steps = round(scenario.duration / scenario.solver.dt)

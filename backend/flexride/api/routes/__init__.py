@@ -4,6 +4,7 @@ from fastapi import APIRouter
 
 from flexride.api.routes import (
     contact,
+    estimates,
     fe,
     health,
     jobs,
@@ -22,6 +23,7 @@ api_router.include_router(fe.router)
 api_router.include_router(uploads.router)
 api_router.include_router(profiles.router)
 api_router.include_router(contact.router)
+api_router.include_router(estimates.router)
 api_router.include_router(presets.router)
 api_router.include_router(health.router)
 

@@ -21,6 +21,13 @@ from flexride.api.schemas.contact import (
     PlacedProfiles,
     ProfileLine,
 )
+from flexride.api.schemas.estimates import (
+    EstimateCreate,
+    EstimateOut,
+    RefusedValue,
+    SweepOut,
+    SweepSpec,
+)
 from flexride.api.schemas.fe import (
     FEBuildStatus,
     FEExport,
@@ -91,6 +98,8 @@ __all__ = [
     "Epoch",
     "ErrorItem",
     "ErrorResponse",
+    "EstimateCreate",
+    "EstimateOut",
     "FEBuildStatus",
     "FEExport",
     "FEMode",
@@ -112,6 +121,7 @@ __all__ = [
     "PresetOut",
     "ProfileLine",
     "ProfileUploadOut",
+    "RefusedValue",
     "ScenarioSource",
     "SeriesChannel",
     "SeriesOut",
@@ -129,6 +139,8 @@ __all__ = [
     "StudyOut",
     "StudyPresetOut",
     "StudyTables",
+    "SweepOut",
+    "SweepSpec",
     "UploadOut",
     "VersionOut",
     "WorkerOut",

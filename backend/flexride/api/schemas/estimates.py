@@ -1,0 +1,122 @@
+"""Bodies of ``POST /estimates``: the frequency-domain comfort estimate of a scenario (or of a
+sweep of one of its fields) and its answer.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from flexride.api.schemas.common import _Strict
+from flexride.vehicle.topology import PAPER_POINT_NAMES
+
+MAX_SWEEP_VALUES = 100
+"""Most values of one sweep."""
+MAX_POINTS = 200
+"""Most points asked for in one estimate."""
+
+TrackModelName = Literal["condensed", "modal", "rigid"]
+
+
+class SweepSpec(_Strict):
+    """One scenario field and the values to estimate it at."""
+
+    parameter: str = Field(
+        max_length=200, pattern=r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+){0,15}$",
+        description="Dotted path of a scenario field, as in 'overrides' "
+        "(e.g. vehicle.secondary.kz, speed_kmh)")
+    values: list[Any] = Field(
+        min_length=1, max_length=MAX_SWEEP_VALUES,
+        description=f"Its values (at most {MAX_SWEEP_VALUES}), each checked as an override of "
+        "the scenario: a value that makes it invalid is a 422 at ['sweep', 'values', i]")
+
+
+class EstimateCreate(_Strict):
+    """A frequency-domain estimate: the scenario input of ``POST /jobs`` (a full scenario, or a
+    preset with dotted-path overrides) and the estimate's options.
+    """
+
+    model_config = ConfigDict(extra="forbid", json_schema_extra={"examples": [
+        {"preset": "paper-random-straight-80", "points": ["PC", "PR"]},
+        {"preset": "paper-random-straight-80", "points": ["PC"],
+         "sweep": {"parameter": "vehicle.secondary.cz", "values": [40000, 80000, 120000]}},
+        {"scenario": {"preset": "paper-random-curve-80"}, "points": ["PC"], "strict": False},
+    ]})
+
+    scenario: dict[str, Any] | None = Field(
+        None,
+        description="Full scenario, see GET /api/v1/schemas/scenario; may start from "
+        "'preset: NAME' and give only what differs",
+    )
+    preset: str | None = Field(None, max_length=80, description="Preset name (GET /presets)")
+    overrides: dict[str, Any] = Field(
+        default_factory=dict,
+        max_length=200,
+        description="Dotted path → value, applied last, e.g. {\"speed_kmh\": 60, "
+        "\"vehicle.secondary.kz\": 3e5}",
+    )
+    points: list[str] = Field(
+        default_factory=lambda: list(PAPER_POINT_NAMES), min_length=1, max_length=MAX_POINTS,
+        description="Recorded points to estimate: car-body point names (PC, PR …) or "
+        "'<body>.<point>' (frame1.centre); default the paper's six points")
+    track: TrackModelName = Field(
+        "condensed", description="Track model: rail condensed onto the rail heads under the "
+        "wheels (default), every rail mode of the frozen window (modal, slower), rigid rails")
+    strict: bool = Field(
+        True, description="Refuse (422) a scenario the linear model does not hold for (flange "
+        "contact or lost contact at equilibrium, a non-random excitation); false: estimate it "
+        "anyway with the reason in 'flags'")
+    sweep: SweepSpec | None = Field(
+        None, description="Estimate the scenario at each of several values of one field "
+        "instead (the answer is then the series of every index against the values)")
+
+    @model_validator(mode="after")
+    def _one_source(self) -> EstimateCreate:
+        if (self.scenario is None) == (self.preset is None):
+            raise ValueError("give either 'scenario' or 'preset' (not both)")
+        return self
+
+
+class EstimateOut(BaseModel):
+    """The estimate of one scenario, as ``flexride estimate --json`` prints it."""
+
+    comfort: dict[str, Any] = Field(description=(
+        "Comfort table: per point and direction the rms, ISO 2631 weighted rms (iso2631), "
+        "Sperling (spectral and filter form), EN 12299 a_P95 and N_MV, the expected peak (all "
+        "m/s² but the indices) and the eigenmodes carrying the comfort-weighted variance; the "
+        "method and the flags where the estimate may not hold"))
+    model: dict[str, Any] = Field(description=(
+        "The linearised model: track model, sizes, operating point, modes below 30 Hz, static "
+        "wheel loads, quasi-static accelerations, flags, timings"))
+    response: dict[str, Any] = Field(description="rms per channel and the input spectra")
+
+
+class RefusedValue(BaseModel):
+    """A sweep value the linear estimate does not hold for."""
+
+    index: int = Field(description="Position in sweep.values")
+    value: Any
+    reason: str = Field(description="flange_contact, contact_loss, unstable, excitation, "
+                        "equilibrium, or the error's kind")
+    message: str
+
+
+class SweepOut(BaseModel):
+    """The estimates of a sweep: every index against the values."""
+
+    parameter: str
+    values: list[Any]
+    points: list[str]
+    track: TrackModelName
+    strict: bool
+    series: dict[str, dict[str, dict[str, list[float | None]]]] = Field(description=(
+        "point → direction (y, z) → index → one number per value (null where refused): rms, "
+        "Wb/Wk/Wd (ISO 2631 weighted rms), sperling, sperling_filter, a_p95, peak (m/s² but "
+        "the Sperling indices)"))
+    nmv: dict[str, list[float | None]] = Field(
+        description="EN 12299 N_MV per floor point and value")
+    flags: list[list[str]] = Field(description="Per value, where the estimate may not hold")
+    refused: list[RefusedValue]
+    reuse: dict[str, int] = Field(description="What the rebuilds of the linear model reused")
+    seconds: float = Field(description="Computing time of the sweep (s)")

@@ -1,0 +1,204 @@
+"""POST /estimates against the real app: the answer is the library's estimate of the same
+scenario (the oracle: :func:`flexride.frequency.estimate`), a sweep's series are the
+individual estimates, and the refusals, limits and bounds of the endpoint."""
+
+from __future__ import annotations
+
+import json
+import threading
+from itertools import pairwise
+from typing import Any
+
+import pytest
+
+from conftest import preset
+from flexride.api.services import estimates as svc_est
+from flexride.frequency import estimate
+from service.svc_testkit import TEST_TOKEN
+
+API = "/api/v1/estimates"
+BASE = "paper-random-straight-80"
+
+
+def _post(client, body: dict[str, Any], **kw: Any):
+    return client.post(API, json=body, **kw)
+
+
+def _without_timings(data: dict[str, Any]) -> dict[str, Any]:
+    """An answer without the model's build timings (they differ from run to run)."""
+    out = json.loads(json.dumps(data))
+    info = out["model"]["info"]
+    for k in [k for k in info if k.startswith("time_")]:
+        del info[k]
+    return out
+
+
+def _close(a: Any, b: Any, rtol: float, path: str = "") -> None:
+    """Recursive equality, floats within ``rtol``."""
+    if isinstance(a, dict):
+        assert isinstance(b, dict) and a.keys() == b.keys(), path
+        for k in a:
+            _close(a[k], b[k], rtol, f"{path}.{k}")
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            _close(x, y, rtol, f"{path}[{i}]")
+    elif isinstance(a, float) or isinstance(b, float):
+        assert a == pytest.approx(b, rel=rtol, abs=1e-300), path
+    else:
+        assert a == b, path
+
+
+def test_a_preset_answer_is_the_library_estimate(client):
+    r = _post(client, {"preset": BASE, "points": ["PC", "PR"]})
+    assert r.status_code == 200, r.text
+    oracle = estimate(preset(BASE), points=["PC", "PR"]).to_dict()
+    _close(_without_timings(r.json()), _without_timings(oracle), 1e-12)
+    # the default points are the paper's six
+    r = _post(client, {"scenario": {"preset": BASE, "speed_kmh": 70}})
+    assert r.status_code == 200, r.text
+    names = [p["name"] for p in r.json()["comfort"]["points"]]
+    assert sorted(names) == sorted(["PR", "PFB", "PC", "PRB", "PLA", "PRA"])
+
+
+def test_a_sweep_of_the_secondary_damping_gives_the_individual_estimates(sqlite_client):
+    values = [2.0e4, 5.0e4, 1.0e5, 2.0e5]
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "sweep": {
+        "parameter": "vehicle.secondary.cz", "values": values}})
+    assert r.status_code == 200, r.text
+    data = r.json()
+    assert data["values"] == values and data["refused"] == []
+    series = data["series"]["PC"]["z"]
+    assert set(series) >= {"rms", "Wb", "Wk", "sperling", "sperling_filter", "a_p95", "peak"}
+    assert all(len(v) == len(values) for v in series.values())
+    assert len(data["nmv"]["PC"]) == len(values)
+    bounce_zeta = []
+    for i, v in enumerate(values):
+        one = estimate(preset(BASE, vehicle__secondary__cz=v), points=["PC"]).comfort
+        z = one.point("PC").directions["z"]
+        assert series["rms"][i] == pytest.approx(z.rms, rel=1e-9)
+        assert series["Wb"][i] == pytest.approx(z.iso["Wb"], rel=1e-9)
+        assert series["sperling"][i] == pytest.approx(z.sperling, rel=1e-9)
+        assert data["nmv"]["PC"][i] == pytest.approx(one.point("PC").nmv, rel=1e-9)
+        bounce_zeta.append(z.modes[0]["damping_ratio"])
+        assert z.modes[0]["label"] == "car-body bounce"
+    # physics: a viscous damper's damping ratio c/(2√(k·m)) grows with c (2e4 → 5e4: ×2.5) …
+    assert bounce_zeta[1] / bounce_zeta[0] == pytest.approx(2.5, rel=0.05)
+    # … and beyond the optimum (ζ ≈ 0.14 at 2e4 N·s/m) more damping transmits more of the
+    # track's content above √2 times the bounce frequency: the accelerations rise
+    for name in ("rms", "Wb"):
+        assert all(a < b for a, b in pairwise(series[name])), name
+
+
+def test_the_curve_is_refused_with_the_reason_and_what_to_do(sqlite_client):
+    r = _post(sqlite_client, {"preset": "paper-random-curve-80", "points": ["PC"],
+                              "strict": True})
+    assert r.status_code == 422, r.text
+    body = r.json()
+    item = body["detail"][0]
+    assert item["type"] == "LinearisationError" and item["loc"] == ["strict"]
+    assert item["ctx"]["reason"] == "flange_contact" and body["reason"] == "flange_contact"
+    assert "flange contact" in item["msg"] and "/api/v1/jobs" in body["message"]
+    r = _post(sqlite_client, {"preset": "paper-random-curve-80", "points": ["PC"],
+                              "strict": False})
+    assert r.status_code == 200, r.text
+    assert any("flange contact" in f for f in r.json()["comfort"]["flags"])
+
+
+def test_a_transient_excitation_is_refused_at_the_excitation(sqlite_client):
+    r = _post(sqlite_client, {"preset": "paper-corrugation-80", "points": ["PC"]})
+    assert r.status_code == 422, r.text
+    item = r.json()["detail"][0]
+    assert item["loc"] == ["excitation"] and item["ctx"]["reason"] == "excitation"
+
+
+@pytest.mark.parametrize("sweep, loc, words", [
+    ({"parameter": "vehicle.secondary.cz", "values": [8.0e4, -1.0]}, ["sweep", "values", 1],
+     "vehicle.secondary.cz = -1.0"),
+    ({"parameter": "vehicle.secondary.cz", "values": ["soft"]}, ["sweep", "values", 0],
+     "valid number"),
+    ({"parameter": "vehicle.secondary.nope", "values": [1.0]}, ["sweep", "parameter"],
+     "not a field"),
+    ({"parameter": "speed_kmh", "values": list(range(30, 131))}, ["body", "sweep", "values"],
+     "at most 100"),
+    ({"parameter": "speed_kmh", "values": []}, ["body", "sweep", "values"], "at least 1"),
+])
+def test_bad_sweeps_are_422_at_the_value(sqlite_client, sweep, loc, words):
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "sweep": sweep})
+    assert r.status_code == 422, r.text
+    items = r.json()["detail"]
+    assert items[0]["loc"] == loc and words in items[0]["msg"], items
+
+
+@pytest.mark.parametrize("body, loc", [
+    ({"preset": BASE, "points": ["PX"]}, ["points", 0]),
+    ({"preset": BASE, "overrides": {"speed_kmh": 999}}, ["speed_kmh"]),
+    ({"preset": BASE, "track": "soft"}, ["body", "track"]),
+    ({"preset": "nope"}, ["preset"]),
+    ({"preset": BASE, "scenario": {"preset": BASE}}, ["body"]),
+])
+def test_scenario_and_option_errors_are_located_as_for_jobs(sqlite_client, body, loc):
+    r = _post(sqlite_client, body)
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["loc"] == loc
+
+
+def test_a_profile_path_is_refused_without_reading_it(sqlite_client):
+    r = _post(sqlite_client, {"preset": BASE, "overrides": {
+        "contact": {"geometry": "profiles", "wheel": {"path": "/etc/passwd"}}}})
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["loc"][:2] == ["contact", "wheel"]
+    assert "root:" not in r.text
+
+
+def test_the_token_is_required_when_the_service_has_one(make_client):
+    client = make_client(api_token=TEST_TOKEN)
+    body = {"preset": BASE, "points": ["PC"]}
+    assert _post(client, body).status_code == 401
+    assert _post(client, body, headers={"Authorization": "Bearer wrong"}).status_code == 401
+    r = _post(client, body, headers={"Authorization": f"Bearer {TEST_TOKEN}"})
+    assert r.status_code == 200, r.text
+
+
+def test_a_flexible_body_not_in_the_fe_cache_is_409_and_nothing_is_built(sqlite_client,
+                                                                       monkeypatch):
+    import flexride.fem.cache as fe_cache
+    import flexride.fem.flexible as fe_flexible
+
+    monkeypatch.setattr(fe_cache, "load", lambda key: None)
+
+    def no_build(*_a: Any, **_k: Any) -> None:
+        raise AssertionError("an FE model was built in the API process")
+
+    monkeypatch.setattr(fe_flexible, "build_flexible_body", no_build)
+    for extra in ({}, {"sweep": {"parameter": "vehicle.secondary.kz", "values": [3e5, 4e5]}}):
+        r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], **extra,
+                                  "overrides": {"bodies.carbody.model": "flexible"}})
+        assert r.status_code == 409, r.text
+        msg = r.json()["message"]
+        assert "FE cache" in msg and "build it first" in msg and "/fe/carbody" in msg
+
+
+def test_busy_is_503_with_retry_after_and_a_kept_answer_needs_no_slot(sqlite_client,
+                                                                     monkeypatch):
+    body = {"preset": BASE, "points": ["PFB"], "overrides": {"speed_kmh": 77}}
+    first = _post(sqlite_client, body)
+    assert first.status_code == 200, first.text
+    monkeypatch.setattr(svc_est, "_SLOTS", threading.BoundedSemaphore(1))
+    assert svc_est._SLOTS.acquire(blocking=False)  # every slot taken
+    r = _post(sqlite_client, {**body, "overrides": {"speed_kmh": 76}})
+    assert r.status_code == 503 and int(r.headers["retry-after"]) > 0, r.text
+    again = _post(sqlite_client, body)  # kept: answered without a slot, the same bytes
+    assert again.status_code == 200 and again.content == first.content
+
+
+def test_published_examples_are_answered(sqlite_client):
+    spec = sqlite_client.get("/api/v1/openapi.json").json()
+    op = spec["paths"][API]["post"]
+    assert {"200", "401", "409", "422", "503"} <= set(op["responses"])
+    assert "refused" in op["responses"]["422"]["content"]["application/json"]["examples"]
+    schema = spec["components"]["schemas"]["EstimateCreate"]
+    assert len(schema["examples"]) >= 2
+    for example in schema["examples"]:
+        r = _post(sqlite_client, example)
+        assert r.status_code == 200, (example, r.text)
