@@ -1,10 +1,10 @@
 """Study: ride comfort and running safety with real wheel/rail profiles against the conical tread.
 
 Runs the paper's random straight and random curve conditions (German high disturbance,
-50–80 km/h, the presets' 400 m) with the car body rigid and flexible, once with the conical tread the paper
-presets use (conicity 0.05, flange contact as a dead-band spring) and once with real profiles
-(S1002 on 60E1 at 1:40, flange-back distance 1.36 m, the time step 6.25e-5 s their stiffer
-tangential contact needs: docs/model.md), and prints
+50–80 km/h, the presets' 400 m) with the car body rigid and flexible, once with the conical
+tread the paper presets use (conicity 0.05, flange contact as a dead-band spring) and once
+with real profiles (S1002 on 60E1 at 1:40, flange-back distance 1.36 m, the time step
+6.25e-5 s their stiffer tangential contact needs: docs/model.md), and prints
 
 * lateral and vertical Sperling indices (spectral form) at PC, PFB and PR,
 * on the curve, the running-safety maxima: derailment coefficient Q/P, wheel unloading ΔP/P

@@ -514,7 +514,8 @@ def running_safety(
 
 def _nadal_check(meta: dict[str, Any], indices: list[SafetyIndex]) -> dict[str, Any] | None:
     """The run's largest Q/P against Nadal's limit for its wheel's flange angle and friction
-    (``meta["flange_angle_rad"]``, ``meta["friction"]``: written for real profiles)."""
+    (``meta["flange_angle_rad"]``, ``meta["friction"]``: written for real profiles).
+    """
     angle, mu = meta.get("flange_angle_rad"), meta.get("friction")
     qp = [i for i in indices if i.name == "derailment_coefficient"]
     if angle is None or mu is None or not qp:

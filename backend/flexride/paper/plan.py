@@ -1,0 +1,310 @@
+"""The runs of the paper's study: Table 3's conditions × speeds × rigid and flexible car body
+(× irregularity realisations), each with the stretch of track it is evaluated on.
+
+Study-fidelity rules (stated in the report):
+
+* **Evaluation windows.** Random irregularity and corrugation on straight track: from 30 m on
+  (the random profile fades in over its first 20 m and the wheelsets spread ±7.4 m about the
+  vehicle centre; the run starts from static equilibrium). Curve: only while every wheelset is
+  on the circular arc. Settlement: the whole run (smooth track before the dip; at 80 km/h the
+  preset's 120 m last 5.4 s, just over one 5 s Sperling segment).
+* **Shortened runs** (``--quick``, ``distance_scale``): the evaluated stretch is scaled, but
+  kept at least ``min_eval_s`` long (the Sperling index needs 5 s segments) and, for the
+  settlement, until 20 m after the last wheelset has left the dip. The random profile does not
+  depend on the run length (synthesis over ≥ 960 m), so a shortened run sees the first part of
+  the same track.
+* **Same track for both models.** The rigid and the flexible run of a condition and speed use
+  the same irregularity seed; ``seeds`` > 1 adds realisations 2, 3, … (seed 1 is the
+  presets').
+* **Flexible cut-off follows the excitation.** Elastic modes are kept up to
+  max(the scenario's cut-off, 1.5 × the highest excitation frequency V/λ_min of the condition
+  over the study's speeds, rounded up to 10 Hz): corrugation of 0.5 m at 80 km/h excites
+  44 Hz, beyond the default 40 Hz. Car body and bogie frames alike; the rule changes the
+  truncation of the modal model, not a physical parameter.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+from flexride.errors import FlexrideError
+from flexride.scenario.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH, PAPER_VEHICLE
+from flexride.scenario.presets import load_preset as _load_preset
+from flexride.scenario.scenario import Scenario
+from flexride.track.spectra import RANDOM_FADE_IN_M
+
+__all__ = [
+    "BODY_MODELS",
+    "CONDITIONS",
+    "RECORD_VERSION",
+    "ReportError",
+    "ReportOptions",
+    "RunSpec",
+    "build_plan",
+]
+
+CONDITIONS: tuple[str, ...] = tuple(PAPER_CONDITIONS)
+"""Table 3's conditions: random-straight, random-curve, corrugation, settlement."""
+
+RANDOM_CONDITIONS = frozenset({"random-straight", "random-curve"})
+"""Conditions with a random irregularity (several realisations make sense)."""
+
+BODY_MODELS: tuple[str, ...] = ("rigid", "flexible")
+"""Car body and bogie frames both rigid, or both flexible (as in the paper)."""
+
+QUICK_SPEEDS_KMH: tuple[float, ...] = (50.0, 80.0)
+QUICK_DISTANCE_SCALE = 0.25
+MIN_EVAL_S = 6.0
+"""Shortest evaluated stretch of a shortened run (s): one 5 s Sperling segment and a margin."""
+
+START_SKIP_M = 30.0
+"""Start of the evaluated stretch on straight track (m): the 20 m fade-in of the random profile
+plus the ±7.4 m spread of the wheelsets, rounded up."""
+
+SETTLEMENT_START_M = 0.0
+SETTLEMENT_DECAY_M = 20.0
+CUTOFF_FACTOR = 1.5
+CUTOFF_STEP_HZ = 10.0
+RECORD_VERSION = 1
+"""Version of the stored run record; part of every cache key."""
+
+
+class ReportError(FlexrideError):
+    """Options of the paper report that cannot be run (the CLI prints one line, exit code 2)."""
+
+
+def _half_extent() -> float:
+    """Distance from the vehicle centre to the outer wheelsets (m), from the preset geometry."""
+    g = PAPER_VEHICLE["geometry"]
+    return float(g["bogie_centre_spacing"]) / 2.0 + float(g["wheelbase"]) / 2.0
+
+
+@dataclass(frozen=True)
+class ReportOptions:
+    """What the report runs.
+
+    Attributes
+    ----------
+    quick : bool
+        Shortened study: two speeds (50, 80 km/h) and 1/4 of every evaluated stretch.
+    seeds : int
+        Irregularity realisations per random condition (1–50).
+    jobs : int or None
+        Worker processes (default: the number of cores).
+    distance_scale : float or None
+        Factor on the evaluated stretch (0–1]; default 1, or 1/4 with ``quick``.
+    speeds : tuple of float or None
+        Speeds (km/h); default Table 3's 50–80 km/h, or 50 and 80 with ``quick``.
+    conditions : tuple of str or None
+        Subset of :data:`CONDITIONS` (default all).
+    min_eval_s : float
+        Shortest evaluated stretch of a shortened run (s).
+    overrides : tuple of (str, value)
+        Dotted-path scenario overrides applied to every run. For tests only (e.g. a coarse FE
+        mesh); the report lists them as a deviation from the paper's study.
+    """
+
+    quick: bool = False
+    seeds: int = 1
+    jobs: int | None = None
+    distance_scale: float | None = None
+    speeds: tuple[float, ...] | None = None
+    conditions: tuple[str, ...] | None = None
+    min_eval_s: float = MIN_EVAL_S
+    overrides: tuple[tuple[str, Any], ...] = ()
+
+    def checked(self) -> ReportOptions:
+        """These options with defaults filled in; :class:`ReportError` for impossible ones."""
+        if not 1 <= self.seeds <= 50:
+            raise ReportError(f"--seeds must be between 1 and 50, got {self.seeds}")
+        jobs = self.jobs if self.jobs is not None else (os.cpu_count() or 1)
+        if jobs < 1:
+            raise ReportError(f"--jobs must be at least 1, got {jobs}")
+        scale = self.distance_scale
+        if scale is None:
+            scale = QUICK_DISTANCE_SCALE if self.quick else 1.0
+        if not 0.0 < scale <= 1.0:
+            raise ReportError(f"--distance-scale must be in (0, 1], got {scale}")
+        speeds = self.speeds or (QUICK_SPEEDS_KMH if self.quick else
+                                 tuple(float(v) for v in PAPER_SPEEDS_KMH))
+        if any(not 0.0 < v <= 200.0 for v in speeds) or len(set(speeds)) != len(speeds):
+            raise ReportError(f"speeds must be distinct values in (0, 200] km/h, got {speeds}")
+        conditions = self.conditions or CONDITIONS
+        unknown = [c for c in conditions if c not in CONDITIONS]
+        if unknown or len(set(conditions)) != len(conditions):
+            raise ReportError(f"unknown or repeated condition(s) {', '.join(unknown) or conditions}"
+                              f"; Table 3's conditions: {', '.join(CONDITIONS)}")
+        if not self.min_eval_s > 0.0:
+            raise ReportError(f"min_eval_s must be positive, got {self.min_eval_s}")
+        return ReportOptions(quick=self.quick, seeds=self.seeds, jobs=jobs,
+                             distance_scale=scale, speeds=tuple(sorted(speeds)),
+                             conditions=tuple(c for c in CONDITIONS if c in conditions),
+                             min_eval_s=self.min_eval_s, overrides=tuple(self.overrides))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form (for the report header and ``report.json``)."""
+        d = asdict(self)
+        d["overrides"] = dict(self.overrides)
+        return d
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of the study: everything that decides its result.
+
+    Attributes
+    ----------
+    condition : str
+        Key of Table 3's condition.
+    speed_kmh : float
+        Running speed (km/h).
+    body : str
+        ``rigid`` or ``flexible`` (car body and bogie frames).
+    seed : int or None
+        Irregularity seed (random conditions), else None.
+    distance_m : float
+        Length of the run (m).
+    window_m : (float, float)
+        Evaluated stretch, positions of the vehicle centre along the line (m).
+    cutoff_hz : float or None
+        Highest elastic mode kept (flexible runs, Hz).
+    overrides : tuple of (str, value)
+        Test overrides (see :class:`ReportOptions`).
+    """
+
+    condition: str
+    speed_kmh: float
+    body: str
+    seed: int | None
+    distance_m: float
+    window_m: tuple[float, float]
+    cutoff_hz: float | None = None
+    overrides: tuple[tuple[str, Any], ...] = field(default=())
+
+    @property
+    def label(self) -> str:
+        """Short text, e.g. ``random-straight 80 km/h flexible seed 1``."""
+        seed = f" seed {self.seed}" if self.seed is not None else ""
+        return f"{self.condition} {self.speed_kmh:g} km/h {self.body}{seed}"
+
+    def scenario_overrides(self) -> dict[str, Any]:
+        """Dotted-path overrides of the condition's 50 km/h preset that make this run."""
+        out: dict[str, Any] = dict(self.overrides)
+        out.update({"name": f"paper-{self.condition}-{self.speed_kmh:g}",
+                    "speed_kmh": float(self.speed_kmh), "distance_m": float(self.distance_m),
+                    "duration_s": None})
+        if self.seed is not None:
+            out["excitation.0.seed"] = int(self.seed)
+        for part in ("carbody", "frames"):
+            out[f"bodies.{part}.model"] = self.body
+            if self.body == "flexible" and self.cutoff_hz is not None:
+                out[f"bodies.{part}.cutoff_hz"] = float(self.cutoff_hz)
+        return out
+
+    def scenario(self) -> Scenario:
+        """The validated scenario of this run."""
+        return _load_preset(f"paper-{self.condition}-{PAPER_SPEEDS_KMH[0]}",
+                            self.scenario_overrides())
+
+    def key(self) -> str:
+        """Cache key: hash of the scenario, the window and :data:`RECORD_VERSION`."""
+        text = json.dumps({"scenario": self.scenario().model_dump(mode="json"),
+                           "window_m": list(self.window_m), "version": RECORD_VERSION},
+                          sort_keys=True, default=str)
+        return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form."""
+        d = asdict(self)
+        d["window_m"] = list(self.window_m)
+        d["overrides"] = dict(self.overrides)
+        return d
+
+
+def full_window(condition: str) -> tuple[float, float, float]:
+    """Evaluated stretch of a full run and the end it may not be shortened below (m).
+
+    Returns
+    -------
+    (start, end, min_end) : float
+        Positions of the vehicle centre along the line (m).
+    """
+    _, line, exc, distance = PAPER_CONDITIONS[condition]
+    half = _half_extent()
+    if condition == "random-curve":
+        arc0 = float(line["start_m"]) + float(line["entry_transition_m"])
+        arc1 = arc0 + float(line["arc_length_m"])
+        return arc0 + half, arc1 - half, arc0 + half
+    if condition == "settlement":
+        dip_end = float(exc[0]["position_m"]) + float(exc[0]["wavelength_m"])
+        return SETTLEMENT_START_M, distance, dip_end + half + SETTLEMENT_DECAY_M
+    start = max(START_SKIP_M, RANDOM_FADE_IN_M + half)
+    return start, distance, start
+
+
+def run_window(condition: str, speed_kmh: float, scale: float,
+               min_eval_s: float) -> tuple[float, tuple[float, float]]:
+    """Run length and evaluated stretch (m) of a condition at a speed, shortened by ``scale``.
+
+    With ``scale`` = 1 the preset's run length is kept.
+    """
+    start, end, min_end = full_window(condition)
+    distance = float(PAPER_CONDITIONS[condition][3])
+    if scale >= 1.0:
+        return distance, (start, end)
+    length = end - start
+    shortened = max(scale * length, min_eval_s * speed_kmh / 3.6, min_end - start)
+    new_end = start + min(length, shortened)
+    return min(distance, new_end), (start, new_end)
+
+
+def shortest_wavelength(condition: str) -> float:
+    """Shortest excitation wavelength of a condition (m)."""
+    lam = math.inf
+    for exc in PAPER_CONDITIONS[condition][2]:
+        lam = min(lam, float(exc.get("wavelength_min_m") or exc.get("wavelength_m") or math.inf))
+    return lam
+
+
+def flexible_cutoff(condition: str, speeds_kmh: tuple[float, ...], base_hz: float) -> float:
+    """Elastic-mode cut-off for a condition (Hz): max(``base_hz``, 1.5·V_max/λ_min rounded up
+    to 10 Hz).
+    """
+    f_exc = max(speeds_kmh) / 3.6 / shortest_wavelength(condition)
+    return max(base_hz, math.ceil(CUTOFF_FACTOR * f_exc / CUTOFF_STEP_HZ) * CUTOFF_STEP_HZ)
+
+
+def _base_cutoff(overrides: tuple[tuple[str, Any], ...]) -> float:
+    sc = _load_preset("paper-metro", {**dict(overrides), "bodies.carbody.model": "flexible"})
+    return float(sc.bodies.carbody.cutoff_hz)
+
+
+def build_plan(options: ReportOptions) -> list[RunSpec]:
+    """Every run of the study, in condition, speed, seed, body order.
+
+    Parameters
+    ----------
+    options : ReportOptions
+        Checked options (:meth:`ReportOptions.checked`).
+    """
+    assert options.speeds is not None and options.conditions is not None
+    scale = options.distance_scale or 1.0
+    base = _base_cutoff(options.overrides)
+    specs = []
+    for cond in options.conditions:
+        cutoff = flexible_cutoff(cond, options.speeds, base)
+        seeds: list[int | None] = (list(range(1, options.seeds + 1))
+                                   if cond in RANDOM_CONDITIONS else [None])
+        for v in options.speeds:
+            distance, window = run_window(cond, v, scale, options.min_eval_s)
+            for seed in seeds:
+                for body in BODY_MODELS:
+                    specs.append(RunSpec(cond, float(v), body, seed, distance, window,
+                                         cutoff if body == "flexible" else None,
+                                         options.overrides))
+    return specs
