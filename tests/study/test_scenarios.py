@@ -71,7 +71,7 @@ def test_hash_ignores_names_and_keys_ignore_speed():
 def test_check_is_cached_per_stability_key(monkeypatch):
     calls = []
 
-    def fake(scenario):
+    def fake(scenario, _sources):
         calls.append(scenario.speed_kmh)
         if scenario.solver.dt > 1e-3:
             raise StabilityError("too big", dt=scenario.solver.dt, dt_max=1e-4,
