@@ -18,6 +18,7 @@ const ROUTES = [
   { re: /^\/compare\/?$/, view: "compare", nav: "compare" },
   { re: /^\/flex\/?$/, view: "flexbody", nav: "flex" },
   { re: /^\/contact\/?$/, view: "contact", nav: "contact" },
+  { re: /^\/estimate\/?$/, view: "estimate", nav: "estimate" },
 ];
 
 const main = document.getElementById("main");

@@ -6,6 +6,7 @@ import { h, setChildren, notice, errorBox, loading, tabs, saveFile, slug } from 
 import { SchemaForm } from "../components/schemaform.js";
 import { parseYamlOrJson, toYaml } from "../components/yaml.js";
 import { go, replaceQuery } from "../components/nav.js";
+import { estimatePanel } from "../components/estimatepanel.js";
 
 const DEFAULT_PRESET = "paper-random-straight-80";
 
@@ -55,7 +56,8 @@ export default async function render(main, ctx) {
   if (ctx.signal.aborted) return undefined;
 
   const msg = h("div", { id: "submit-message", "aria-live": "polite" });
-  const form = new SchemaForm(schema, initial, { onChange: () => { yamlDirty = false; } });
+  const form = new SchemaForm(schema, initial, { onChange: () => { yamlDirty = false; estimate.schedule(); } });
+  const estimate = estimatePanel(() => form.value, ctx.signal, () => form.el.querySelectorAll('[aria-invalid="true"]').length);
   let yamlDirty = false;
 
   // -- start from ------------------------------------------------------------------------------
@@ -73,6 +75,7 @@ export default async function render(main, ctx) {
     try {
       const sc = await cached(`preset:${presetSel.value}`, () => api.preset(presetSel.value));
       form.setValue(sc);
+      estimate.schedule();
       editor.value = toYaml(sc);
       startInfo.textContent = `Form filled from preset ${presetSel.value}.`;
       replaceQuery({ preset: presetSel.value });
@@ -116,6 +119,7 @@ export default async function render(main, ctx) {
             try {
               const sc = await parseEditor();
               form.setValue(sc);
+              estimate.schedule();
               setChildren(editorMsg, notice("info", null, "Applied to the form."));
               yamlDirty = false;
               t.select("form", true);
@@ -142,6 +146,7 @@ export default async function render(main, ctx) {
     if (fromText() && yamlDirty) {
       const sc = await parseEditor();
       form.setValue(sc);
+      estimate.schedule();
       yamlDirty = false;
     }
     return form.value;
@@ -158,6 +163,7 @@ export default async function render(main, ctx) {
         extra.push(h("button", { type: "button", class: "btn btn-small", onclick: () => {
           form.value.solver = { ...(form.value.solver || {}), dt: dtSuggested };
           form.setValue(form.value);
+          estimate.schedule();
           setChildren(msg, notice("info", null, `solver.dt set to ${dtSuggested} s.`));
         } }, `Use solver.dt = ${dtSuggested} s`));
       }
@@ -222,7 +228,7 @@ export default async function render(main, ctx) {
   main.replaceChildren(
     h("h1", {}, "New job"),
     h("div", { class: "layout-side" },
-      h("div", {}, t.el),
+      h("div", {}, estimate.el, t.el),
       h("aside", { class: "side", "aria-label": "Start and submit" },
         h("section", { class: "card" },
           h("h2", { class: "h3" }, "Start from"),
@@ -230,5 +236,6 @@ export default async function render(main, ctx) {
         h("section", { class: "card" }, h("h2", { class: "h3" }, "Submit"),
           h("p", { class: "help" }, "Values are checked as you type against the schema's ranges; the server's own messages appear at the field they concern."),
           submitForm))));
+  estimate.now();
   return undefined;
 }

@@ -1,0 +1,279 @@
+// Estimate sweep: the frequency-domain comfort estimate (POST /api/v1/estimates with `sweep`) of
+// a preset (with optional overrides) at up to 100 values of one scenario field, drawn as one
+// index against the values; each value's flags are its hover text, refused values are marked.
+// The answer holds every index of every point asked for, so choosing another point, direction or
+// index redraws at once without asking again.
+
+import { api, cached, request } from "../api.js";
+import { h, setChildren, notice, errorBox, fmt, loading, debounce } from "../components/dom.js";
+import { plotCard, baseLayout, loadPlotly, COLORS } from "../components/plot.js";
+import { replaceQuery } from "../components/nav.js";
+import { placeServerErrors } from "../components/servererrors.js";
+import { numericPaths } from "./newstudy.js";
+
+const MAX_VALUES = 100;
+const POINTS = ["PR", "PFB", "PC", "PRB", "PLA", "PRA"];
+const SUGGESTED = ["vehicle.secondary.cz", "vehicle.secondary.kz", "vehicle.primary.kz", "speed_kmh"];
+/** Indices: key in the answer's series (or nmv), label, unit. */
+const INDICES = [
+  { key: "sperling", label: "Sperling index W (spectral form)", unit: "–" },
+  { key: "sperling_filter", label: "Sperling index W (filter form)", unit: "–" },
+  { key: "rms", label: "rms acceleration", unit: "m/s²" },
+  { key: "iso", label: "ISO 2631 weighted rms a_w", unit: "m/s²" },
+  { key: "a_p95", label: "EN 12299 a_P95", unit: "m/s²" },
+  { key: "peak", label: "expected peak acceleration", unit: "m/s²" },
+  { key: "nmv", label: "EN 12299 mean comfort N_MV", unit: "–" },
+];
+const DEFAULTS = { preset: "paper-random-straight-80", parameter: "vehicle.secondary.cz", from: "20000", to: "200000", count: "10", point: "PC", direction: "z", index: "sperling", overrides: "" };
+
+/** `count` values from `from` to `to`, evenly spaced (≤ MAX_VALUES), or an error message. */
+export function sweepValues(from, to, count) {
+  const a = Number(from);
+  const b = Number(to);
+  const n = Number(count);
+  if (![a, b].every(Number.isFinite)) return "from and to must be numbers";
+  if (!Number.isInteger(n) || n < 1 || n > MAX_VALUES) return `the count must be a whole number from 1 to ${MAX_VALUES}`;
+  if (n === 1) return [a];
+  return Array.from({ length: n }, (_, i) => Number((a + ((b - a) * i) / (n - 1)).toPrecision(12)));
+}
+
+/** "path: value" lines → {path: value} (values read as JSON where they are, else text). */
+export function parseOverrides(text) {
+  const out = {};
+  for (const raw of String(text || "").split("\n")) {
+    const line = raw.trim();
+    if (!line || line.startsWith("#")) continue;
+    const i = line.search(/[:=]/);
+    if (i < 1) throw new Error(`“${line}” is not “path: value”`);
+    const v = line.slice(i + 1).trim();
+    let val;
+    try {
+      val = JSON.parse(v);
+    } catch {
+      val = v;
+    }
+    out[line.slice(0, i).trim()] = val;
+  }
+  return out;
+}
+
+/** One labelled control with its server message under it. */
+function field(name, label, input, unit = null, help = null) {
+  const id = `est-${name}`;
+  Object.assign(input, { id });
+  const err = h("div", { class: "field-error from-server", id: `${id}-err`, "aria-live": "polite" });
+  input.setAttribute("aria-describedby", `${help ? `${id}-help ` : ""}${id}-err`);
+  const el = h("div", { class: "field" }, h("label", { for: id }, label),
+    h("div", { class: "input-row" }, input, unit), help ? h("p", { class: "help", id: `${id}-help` }, help) : null, err);
+  return { name, el, input, err };
+}
+
+const text = (value, extra = {}) => h("input", { type: "text", value, autocomplete: "off", spellcheck: "false", ...extra });
+const select = (options, value) => h("select", {}, options.map(([v, l]) => h("option", { value: v, selected: v === value }, l)));
+
+/** The values of an index along the sweep: {y, unit, label}. */
+function seriesOf(data, point, dir, index) {
+  if (index.key === "nmv") return data.nmv?.[point] || null;
+  const s = data.series?.[point]?.[dir];
+  if (!s) return null;
+  if (index.key !== "iso") return s[index.key] || null;
+  const w = Object.keys(s).find((k) => /^W[a-z]$/.test(k)); // Wb (z) or Wd (y)
+  return w ? s[w] : null;
+}
+
+/** Hover text of value i: its flags (the first three, shortened). */
+function flagText(flags) {
+  if (!flags?.length) return "no flags";
+  const cut = (f) => (f.length > 90 ? `${f.slice(0, 88)}…` : f);
+  const more = flags.length > 3 ? `<br>… and ${flags.length - 3} more` : "";
+  return `${flags.length} flag${flags.length > 1 ? "s" : ""}:<br>${flags.slice(0, 3).map(cut).join("<br>")}${more}`;
+}
+
+function traces(data, y, label) {
+  const xs = data.values;
+  const flagged = data.flags.map((f) => f.length > 0);
+  const ok = y.map((v) => v !== null && v !== undefined);
+  const valid = y.filter((v, i) => ok[i]);
+  const base = valid.length ? Math.min(...valid) : 0;
+  const refused = data.refused || [];
+  return [
+    { type: "scatter", mode: "lines+markers", name: label, x: xs, y, connectgaps: false,
+      text: data.flags.map(flagText), hovertemplate: "%{x}: %{y:.4g}<br>%{text}<extra></extra>",
+      line: { color: COLORS[0], width: 2 },
+      marker: { size: 8, color: COLORS[0], symbol: flagged.map((f) => (f ? "circle-open" : "circle")), line: { width: 2, color: COLORS[0] } } },
+    { type: "scatter", mode: "markers", name: "refused (no linear estimate)", x: refused.map((r) => r.value), y: refused.map(() => base),
+      text: refused.map((r) => `refused: ${r.reason}<br>${r.message.slice(0, 120)}`), hovertemplate: "%{x}: %{text}<extra></extra>",
+      marker: { size: 12, symbol: "x", color: COLORS[1] } },
+  ];
+}
+
+export default async function render(main, ctx) {
+  loadPlotly().catch(() => {});
+  ctx.title("Estimate");
+  const q = { ...DEFAULTS, ...ctx.query };
+  main.append(h("h1", {}, "Estimate"), loading("Loading the presets and the scenario schema…"));
+  let presets;
+  let paths;
+  try {
+    const [p, schema] = await Promise.all([cached("presets", api.presets), cached("schema", api.scenarioSchema)]);
+    presets = p;
+    paths = numericPaths(schema);
+  } catch (err) {
+    setChildren(main, h("h1", {}, "Estimate"), errorBox(err, "The form could not be prepared"));
+    return undefined;
+  }
+  if (ctx.signal.aborted) return undefined;
+
+  const unitOfPath = (p) => paths.find((x) => x.path === p.trim())?.unit || "";
+  const paramUnit = h("span", { class: "unit", id: "est-parameter-unit" }, unitOfPath(q.parameter));
+  const unitBadge = () => h("span", { class: "unit" }, unitOfPath(q.parameter));
+  const F = {
+    preset: field("preset", "Preset", select(presets.map((p) => [p.name, p.name]), q.preset)),
+    overrides: field("overrides", "Overrides (optional)", h("textarea", { rows: 3, class: "mono", spellcheck: "false" }, q.overrides), null, "One “dotted.path: value” a line, e.g. vehicle.primary.cz: 8000"),
+    parameter: field("parameter", "Parameter (dotted path)", text(q.parameter, { list: "est-paths" }), paramUnit),
+    from: field("from", "From", text(q.from, { inputmode: "decimal" }), unitBadge()),
+    to: field("to", "To", text(q.to, { inputmode: "decimal" }), unitBadge()),
+    count: field("count", "Number of values", text(q.count, { inputmode: "numeric" }), null, `At most ${MAX_VALUES}, evenly spaced from “from” to “to”.`),
+  };
+  const pointSel = select([...new Set([...POINTS, q.point])].map((p) => [p, p]), q.point);
+  const dirSel = select([["z", "vertical (z)"], ["y", "lateral (y)"]], q.direction);
+  const indexSel = select(INDICES.map((i) => [i.key, `${i.label} (${i.unit})`]), q.index);
+  const formMsg = h("div", { id: "est-form-msg", "aria-live": "polite" });
+  const datalist = h("datalist", { id: "est-paths" },
+    [...SUGGESTED, ...paths.map((p) => p.path).filter((p) => !SUGGESTED.includes(p))].map((p) => h("option", { value: p }, unitOfPath(p) ? `${p} (${unitOfPath(p)})` : p)));
+  const formEl = h("form", { class: "stack", id: "est-form", novalidate: true },
+    Object.values(F).map((f) => f.el), datalist,
+    h("div", { class: "actions" }, h("button", { type: "submit", class: "btn btn-primary", id: "est-apply" }, "Estimate")), formMsg);
+  const card = plotCard({ title: "Index against the parameter", id: "plot-estimate-sweep", height: 420, csvName: "estimate-sweep",
+    description: "Estimated comfort index against the swept parameter", csv: () => state.data && csvOf(state.data) });
+  card.setControls(h("div", { class: "controls" },
+    h("label", { for: "est-point" }, "Point", Object.assign(pointSel, { id: "est-point" })),
+    h("label", { for: "est-direction" }, "Direction", Object.assign(dirSel, { id: "est-direction" })),
+    h("label", { for: "est-index" }, "Index", Object.assign(indexSel, { id: "est-index" }))));
+  setChildren(main, h("h1", {}, "Estimate"),
+    h("p", { class: "muted small" }, "Comfort indices from the linearised vehicle–track model driven by the track spectra (", h("code", {}, "flexride estimate"), "), in about a second, for a sweep of any one scenario field; a time-domain job is the check."),
+    h("div", { class: "three" },
+      h("section", { class: "card", "aria-labelledby": "est-form-title" }, h("h2", { id: "est-form-title", class: "h3" }, "Scenario and sweep"), formEl),
+      h("div", {}, card.el)));
+
+  const state = { data: null, seq: 0, ctrl: null };
+  const selection = () => ({ point: pointSel.value, direction: dirSel.value, index: indexSel.value });
+  const formValues = () => Object.fromEntries(Object.entries(F).map(([k, f]) => [k, f.input.value.trim()]));
+
+  function csvOf(data) {
+    const idx = INDICES.find((i) => i.key === indexSel.value);
+    const y = seriesOf(data, pointSel.value, dirSel.value, idx) || [];
+    return { header: [data.parameter, `${idx.label} (${idx.unit})`, "flags"], rows: data.values.map((v, i) => [v, y[i], data.flags[i].join(" | ")]) };
+  }
+
+  async function draw() {
+    const data = state.data;
+    if (!data) return;
+    const { point, direction } = selection();
+    const idx = INDICES.find((i) => i.key === indexSel.value);
+    dirSel.disabled = idx.key === "nmv";
+    const y = seriesOf(data, point, direction, idx);
+    replaceQuery({ ...formValues(), ...selection() });
+    if (!y) {
+      card.empty(`No ${idx.label} at ${point}${idx.key === "nmv" ? " (N_MV is given for floor points)" : ""}.`);
+      return;
+    }
+    const unit = unitOfPath(data.parameter);
+    const dirName = idx.key === "nmv" ? "" : ` ${direction}`;
+    const label = `${idx.label}${dirName} at ${point}`;
+    await card.draw(traces(data, y, label), baseLayout(`${data.parameter} (${unit || "–"})`, `${idx.label}${dirName} (${idx.unit})`, { uirevision: data.parameter }));
+    const n = data.refused.length;
+    const flagged = data.flags.filter((f) => f.length).length;
+    card.setNote(`${data.values.length} values in ${fmt(data.seconds, 2)} s; ${n ? `${n} refused (×)` : "none refused"}; ${flagged} with flags (open markers, hover for them).`);
+  }
+
+  function clearErrors() {
+    setChildren(formMsg);
+    for (const f of Object.values(F)) {
+      f.err.textContent = "";
+      f.input.removeAttribute("aria-invalid");
+    }
+  }
+
+  function markField(name, msg) {
+    F[name].err.textContent = msg;
+    F[name].input.setAttribute("aria-invalid", "true");
+  }
+
+  /** The server's 422 items at the form's fields: sweep.parameter, sweep.values (from/to), preset, overrides (also
+   * an item at the scenario path an override sets). */
+  function showErrors(err) {
+    if (err?.status !== 422 || !err.items?.length) {
+      setChildren(formMsg, errorBox(err, "The estimate could not be computed"));
+      return;
+    }
+    let keys = [];
+    try {
+      keys = Object.keys(parseOverrides(F.overrides.input.value));
+    } catch { /* marked before */ }
+    const at = (k) => (k.startsWith("sweep.values") ? "from" : k.startsWith("overrides") || keys.includes(k) ? "overrides"
+      : { "sweep.parameter": "parameter", sweep: "parameter", preset: "preset" }[k]);
+    const { errors, unmatched } = placeServerErrors(err.items, (k) => !!at(k), (k) => !!at(k));
+    for (const [key, msg] of errors) markField(at(key), msg);
+    setChildren(formMsg, notice(err.body?.reason ? "warn" : "error", err.body?.reason ? "No linear estimate" : "The service refused this sweep",
+      unmatched.length ? h("ul", {}, unmatched.map((u) => h("li", {}, u.msg))) : h("p", {}, "See the marked fields.")));
+  }
+
+  /** The request body, or null after marking what is wrong in the browser. */
+  function body() {
+    const v = formValues();
+    const values = sweepValues(v.from, v.to, v.count);
+    if (typeof values === "string") {
+      markField(Number.isInteger(Number(v.count)) && Number(v.count) >= 1 && Number(v.count) <= MAX_VALUES ? "from" : "count", values);
+      return null;
+    }
+    let overrides;
+    try {
+      overrides = parseOverrides(v.overrides);
+    } catch (e) {
+      markField("overrides", e.message);
+      return null;
+    }
+    const points = [...new Set([...POINTS, pointSel.value])];
+    return { preset: v.preset, overrides, points, sweep: { parameter: v.parameter, values } };
+  }
+
+  async function compute() {
+    const seq = ++state.seq;
+    if (state.ctrl) state.ctrl.abort();
+    clearErrors();
+    const b = body();
+    if (!b) return;
+    paramUnit.textContent = unitOfPath(b.sweep.parameter);
+    state.ctrl = new AbortController();
+    if (!state.data) card.loading("Estimating…");
+    setChildren(formMsg, loading(`Estimating at ${b.sweep.values.length} values…`));
+    try {
+      const data = await request("/estimates", { method: "POST", body: b, signal: state.ctrl.signal, timeout: 60000 });
+      if (seq !== state.seq || ctx.signal.aborted) return;
+      setChildren(formMsg);
+      state.data = data;
+      await draw();
+    } catch (err) {
+      if (seq !== state.seq || ctx.signal.aborted || err?.name === "AbortError") return;
+      showErrors(err);
+      if (!state.data) card.empty("Fix the marked fields and estimate again.");
+    }
+  }
+
+  const later = debounce(compute, 400);
+  formEl.addEventListener("submit", (e) => {
+    e.preventDefault();
+    compute();
+  });
+  formEl.addEventListener("change", later);
+  F.parameter.input.addEventListener("input", () => {
+    const u = unitOfPath(F.parameter.input.value);
+    paramUnit.textContent = u;
+    for (const k of ["from", "to"]) F[k].el.querySelector(".unit").textContent = u;
+  });
+  for (const s of [pointSel, dirSel, indexSel]) s.addEventListener("change", draw);
+  ctx.signal.addEventListener("abort", () => state.ctrl?.abort(), { once: true });
+  compute();
+  return () => { state.seq += 1; };
+}

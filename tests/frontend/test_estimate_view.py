@@ -1,0 +1,156 @@
+"""Browser tests of the frequency-domain estimate in the dashboard against a real ``flexride
+serve``, in Chromium and Firefox (fixtures of tests/frontend/conftest.py): the instant-estimate
+panel of the new-job view (numbers for the default preset, asked again once after the speed is
+typed, a refusal as a note and never a form error) and the sweep view ``#/estimate`` (a curve
+with the requested number of values, refused values marked, redrawn without asking again); no
+console errors (checked by the ``page`` fixture).
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+PRESET = "paper-random-straight-80"
+
+
+def _estimate_posts(page: Any) -> list[str]:
+    """A list that collects the page's POST /api/v1/estimates requests from now on."""
+    seen: list[str] = []
+    page.on("request", lambda r: seen.append(r.url)
+            if r.method == "POST" and r.url.endswith("/api/v1/estimates") else None)
+    return seen
+
+
+def _settled(page: Any, timeout: float = 90_000) -> str:
+    """Wait until the panel has an answer (or a note); its state (``ready``, ``refused`` …)."""
+    page.wait_for_function("() => ['ready', 'refused', 'error'].includes("
+                           "document.querySelector('#estimate-panel')?.dataset.state)",
+                           timeout=timeout)
+    return page.get_attribute("#estimate-panel", "data-state")
+
+
+def _cell(page: Any, point: str, column: int) -> str:
+    return page.locator(f'#estimate-table tr[data-point="{point}"] td').nth(column).inner_text()
+
+
+def test_instant_estimate_shows_the_default_preset_and_follows_the_speed(page, server, shot):
+    page.goto(f"/#/new?preset={PRESET}")
+    state = _settled(page)
+    assert state == "ready", page.locator("#estimate-panel").inner_text()
+    api = server.api("/estimates", {"preset": PRESET})["comfort"]
+    rows = page.locator("#estimate-table tbody tr")
+    assert rows.count() == len(api["points"]) == 6
+    heads = page.locator("#estimate-table thead th").all_inner_texts()
+    assert all(re.search(r"\((m/s²|–)\)$", t) for t in heads[1:]), heads  # a unit on every column
+    pc = next(p for p in api["points"] if p["name"] == "PC")
+    assert _cell(page, "PC", 4) == f"{pc['directions']['z']['sperling']:.2f}"
+    assert _cell(page, "PC", 5) == f"{pc['directions']['y']['sperling']:.2f}"
+    assert _cell(page, "PC", 6) == f"{pc['nmv']:.2f}"
+    assert page.locator("#estimate-method").inner_text().startswith("Method: frequency domain")
+    assert str(len(api["flags"])) in page.locator("#estimate-flags").inner_text()
+    assert page.get_attribute("#estimate-panel", "data-speed") == "80"
+    shot(page, "21-new-job-instant-estimate", full_page=False)
+    # typing a new speed: one request after the typing stops (debounced), the table follows
+    posts = _estimate_posts(page)
+    before = _cell(page, "PC", 4)
+    page.fill("#f-speed_kmh", "")
+    page.type("#f-speed_kmh", "60", delay=60)
+    page.wait_for_selector('#estimate-panel[data-speed="60"][data-state=ready]', timeout=30_000)
+    assert len(posts) == 1  # not one per keystroke
+    assert _cell(page, "PC", 4) != before
+    assert "60 km/h" in page.locator("#estimate-status").inner_text()
+    # never a form error
+    assert page.locator("#f-speed_kmh").get_attribute("aria-invalid") is None
+    # a value the form marks: the panel waits for it, without asking
+    page.fill("#f-speed_kmh", "500")
+    page.wait_for_selector("#estimate-panel[data-state=waiting]")
+    assert "1 field marked" in page.locator("#estimate-note").inner_text()
+    assert len(posts) == 1
+
+
+def test_instant_estimate_refusal_is_a_note_not_a_form_error(page, server, shot):
+    page.console_log.allow(r"status of 422")  # the service refuses the linear estimate
+    page.goto("/#/new?preset=paper-random-curve-80")
+    assert _settled(page) == "refused", page.locator("#estimate-panel").inner_text()
+    note = page.locator("#estimate-note").inner_text()
+    assert note.startswith("No linear estimate:") and "flange contact" in note
+    assert page.locator("#estimate-table").count() == 0
+    assert page.locator("[aria-invalid=true]").count() == 0
+    assert all(t == "" for t in page.locator(".field-error.from-server").all_inner_texts())
+    assert page.locator("#submit-message").inner_text() == ""
+    shot(page, "22-new-job-estimate-refused", full_page=False)
+    # a scenario without a random irregularity: the note, without asking the service
+    posts = _estimate_posts(page)
+    page.select_option("#preset-select", "paper-settlement-60")
+    page.get_by_role("button", name="Load preset").click()
+    page.wait_for_function("() => document.querySelector('#estimate-note')?.textContent"
+                           ".includes('settlement')")
+    assert "no random irregularity" in page.locator("#estimate-note").inner_text()
+    assert posts == []
+
+
+def test_sweep_view_draws_the_requested_values(page, server, shot, wait_plot):
+    page.goto("/#/")
+    page.get_by_role("link", name="Estimate").click()
+    page.wait_for_url(re.compile(r"#/estimate"))
+    wait_plot(page, "#plot-estimate-sweep", timeout=90_000)  # a fresh server's first model
+    assert page.locator('[data-nav="estimate"]').get_attribute("aria-current") == "page"
+    page.fill("#est-parameter", "vehicle.primary.ky")
+    page.fill("#est-from", "1000")
+    page.fill("#est-to", "1000000")
+    page.fill("#est-count", "7")
+    posts = _estimate_posts(page)
+    page.click("#est-apply")
+    page.wait_for_function("() => document.querySelector('#plot-estimate-sweep .plot')"
+                           ".data?.[0]?.x?.length === 7", timeout=60_000)
+    x, y, text = page.eval_on_selector("#plot-estimate-sweep .plot",
+                                       "e => [e.data[0].x, e.data[0].y, e.data[0].text]")
+    assert x[0] == 1000 and x[-1] == 1000000 and len(y) == 7
+    assert all(re.match(r"(no flags|1 flag:|\d+ flags:)", t) for t in text), text
+    # 1000 N/m of lateral primary stiffness is unstable (hunting): refused, marked with ×
+    assert y[0] is None and all(v is not None for v in y[1:])
+    refused = page.eval_on_selector("#plot-estimate-sweep .plot", "e => e.data[1].x")
+    assert refused == [1000]
+    assert "1 refused" in page.locator("#plot-estimate-sweep .plot-note").inner_text()
+    titles = page.eval_on_selector("#plot-estimate-sweep .plot",
+                                   "e => [e.layout.xaxis.title.text, e.layout.yaxis.title.text]")
+    assert titles[0] == "vehicle.primary.ky (N/m)" and titles[1].endswith("(–)"), titles
+    shot(page, "23-estimate-sweep")
+    # another index and point: drawn from the same answer
+    n_posts = len(posts)
+    page.select_option("#est-index", "rms")
+    page.select_option("#est-point", "PR")
+    page.wait_for_function("() => document.querySelector('#plot-estimate-sweep .plot')"
+                           ".layout.yaxis.title.text.endsWith('(m/s²)')")
+    assert "at PR" in page.eval_on_selector("#plot-estimate-sweep .plot", "e => e.data[0].name")
+    page.wait_for_timeout(500)
+    assert len(posts) == n_posts
+    assert "count=7" in page.url and "point=PR" in page.url
+
+
+def test_sweep_view_checks_the_values_and_shows_the_servers_message_at_its_field(page, server):
+    page.console_log.allow(r"status of 422")  # the service refuses the unknown field
+    page.goto("/#/estimate?count=5")
+    page.wait_for_selector("#plot-estimate-sweep .plot[data-state=ready]", timeout=90_000)
+    posts = _estimate_posts(page)
+    page.fill("#est-count", "101")
+    page.click("#est-apply")
+    assert "1 to 100" in page.locator("#est-count-err").inner_text()
+    assert page.locator("#est-count").get_attribute("aria-invalid") == "true"
+    page.wait_for_timeout(600)
+    assert posts == []
+    # the service's 422 at its field: an unknown parameter, a value out of range of an override
+    page.fill("#est-count", "5")
+    page.fill("#est-parameter", "vehicle.secondary.nonsense")
+    page.click("#est-apply")
+    err = page.locator("#est-parameter-err")
+    err.wait_for(state="visible")
+    assert "not a field of the scenario" in err.inner_text()
+    assert page.locator("#est-count-err").inner_text() == ""
+    page.fill("#est-parameter", "vehicle.secondary.cz")
+    page.fill("#est-overrides", "vehicle.secondary.kz: -5")
+    page.click("#est-apply")
+    page.locator("#est-overrides-err").wait_for(state="visible")
+    assert "greater than or equal to 0" in page.locator("#est-overrides-err").inner_text()
+    assert page.locator("#est-parameter-err").inner_text() == ""
