@@ -112,6 +112,14 @@ def test_a_transient_excitation_is_refused_at_the_excitation(sqlite_client):
     assert item["loc"] == ["excitation"] and item["ctx"]["reason"] == "excitation"
 
 
+def test_smooth_track_is_refused_like_a_transient_excitation(sqlite_client):
+    r = _post(sqlite_client, {"preset": "paper-metro", "points": ["PC"]})  # no excitation
+    assert r.status_code == 422, r.text
+    item = r.json()["detail"][0]
+    assert item["loc"] == ["excitation"] and item["ctx"]["reason"] == "excitation"
+    assert "no random irregularity" in item["msg"]
+
+
 @pytest.mark.parametrize("sweep, loc, words", [
     ({"parameter": "vehicle.secondary.cz", "values": [8.0e4, -1.0]}, ["sweep", "values", 1],
      "vehicle.secondary.cz = -1.0"),

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from flexride.frequency.comfort import ComfortTable, comfort
+from flexride.frequency.errors import LinearisationError
 from flexride.frequency.model import LinearModel, linear_model
 from flexride.frequency.reduce import TrackModel
 from flexride.frequency.response import ResponseSpectra, response
@@ -72,5 +73,8 @@ def estimate(scenario: Scenario, points: Sequence[str] | None = None,
     """
     with small_dense_problems():
         model = linear_model(scenario, track, vehicle=vehicle, strict=strict, sources=sources)
+        if model.spectra is None:  # nothing random to respond to (no excitation at all)
+            raise LinearisationError("the scenario has no random irregularity to estimate the "
+                                     "response to (use the time-domain solver)", "excitation")
         resp = response(model, points=points)
         return Estimate(model, resp, comfort(resp))
