@@ -487,6 +487,136 @@ def _as_pair(p: Profile | tuple[Profile, Profile], kind: str) -> tuple[Profile, 
     return pair[0], pair[1]
 
 
+def _sampled_profiles(
+    wheels: tuple[Profile, Profile],
+    rails: tuple[Profile, Profile],
+    placement: Placement,
+    settings: SearchSettings,
+) -> tuple[list[SampledProfile], list[PlacedRail], list[SampledProfile]]:
+    """Wheel profiles, placed rails and placed rail profiles of both sides (left, right),
+    smoothed over ``settings.smoothing_length`` and sampled every ``settings.sampling`` (m); a
+    profile given for both sides is sampled once.
+    """
+    h = settings.sampling
+    ell = settings.smoothing_length
+    wsamp: list[SampledProfile] = []
+    placed: list[PlacedRail] = []
+    rsamp: list[SampledProfile] = []
+    w_cache: dict[int, SampledProfile] = {}
+    r_cache: dict[int, tuple[PlacedRail, SampledProfile]] = {}
+    for side in range(2):
+        wp, rp = wheels[side], rails[side]
+        if id(wp) not in w_cache:
+            w_cache[id(wp)] = wp.curve(ell).sample(h)
+        if id(rp) not in r_cache:
+            pr = place_rail(rp.curve(ell), placement)
+            r_cache[id(rp)] = (pr, pr.sample(h))
+        wsamp.append(w_cache[id(wp)])
+        placed.append(r_cache[id(rp)][0])
+        rsamp.append(r_cache[id(rp)][1])
+    return wsamp, placed, rsamp
+
+
+def _solve_grid(
+    dys: np.ndarray,
+    wsamp: list[SampledProfile],
+    rsamp: list[SampledProfile],
+    placement: Placement,
+    settings: SearchSettings,
+    names: tuple[str, str],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rigid configuration and contact candidates at every Δy of ``dys`` (m) by the compiled
+    search: roll φ [n] (rad), lift [2, n] (m) and per side and branch (found, gap (m),
+    wheel sample index, η (m)) [2, 2, n, 4].
+
+    Raises
+    ------
+    ScenarioError
+        When the contact reaches the end of a profile at some Δy (``names``: wheel and rail
+        names for the message).
+    """
+    n = dys.size
+    res_phi = np.zeros(n)
+    res_lift = np.zeros((2, n))
+    res_slot = np.zeros((2, 2, n, 4))
+    res_edge = np.zeros(n, dtype=np.int64)
+    wl, wr = wsamp
+    rl, rr = rsamp
+    _search(dys, bool(settings.roll),
+            wl.z, wl.y0, wl.h, wl.angle, rl.z, rl.y0, rl.h,
+            wr.z, wr.y0, wr.h, wr.angle, rr.z, rr.y0, rr.h,
+            placement.taping_line, placement.r0, settings.flange_angle,
+            res_phi, res_lift, res_slot, res_edge)
+    bad = np.flatnonzero(res_edge)
+    if bad.size:
+        worst = dys[bad[np.argmin(np.abs(dys[bad]))]]
+        raise ScenarioError(
+            f"contact search: at Δy = {worst * 1e3:.3f} mm the contact reaches the end of a "
+            f"profile ({names[0]} / {names[1]}): the profiles do not cover the "
+            "contact; reduce the Δy range or use longer profiles"
+        )
+    return res_phi, res_lift, res_slot
+
+
+def _rigid_gaps(
+    res_slot: np.ndarray, res_lift: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Branches found [2, 2, n], their gaps (m, 0 for the rigid contact, +inf when absent),
+    the slot carrying the rigid contact [2, n] and the lift (m) [2, n] at which it touches, the
+    parabola refinement's offset of the rigid gap (~1e-9 m) removed from gaps and lift.
+    """
+    found = res_slot[..., 0] > 0.5
+    gap = np.where(found, res_slot[..., 1], np.inf)
+    # the rigid contact has gap 0 exactly (removes the parabola refinement's ~1e-9 m offset)
+    gmin = gap.min(axis=1, keepdims=True)
+    gap = np.where(found, gap - gmin, np.inf)
+    rigid = np.argmin(gap, axis=1)
+    lift = res_lift - gmin[:, 0, :]
+    return found, gap, rigid, lift
+
+
+def _contact_point_fields(
+    found: np.ndarray,
+    kk: np.ndarray,
+    eta: np.ndarray,
+    wsamp: list[SampledProfile],
+    rsamp: list[SampledProfile],
+    placed: list[PlacedRail],
+    r0: float,
+) -> dict[str, np.ndarray]:
+    """Wheel and rail values at every contact found [2, 2, n] (NaN elsewhere), from the wheel
+    sample index ``kk`` and the lateral position ``eta`` (m) of the contact: wheel position s,
+    rolling radius r (m), contact angle gamma (rad), lateral curvatures k_wheel and k_rail
+    (1/m, positive convex), contact height z_contact (m), rail slope gamma_rail (rad) and the
+    position on the rail profile rail_y, rail_z (m). ``r0`` is the nominal rolling radius (m).
+    """
+    sh = found.shape
+    out = {name: np.full(sh, np.nan) for name in (
+        "s", "r", "gamma", "k_wheel", "z_contact", "gamma_rail", "k_rail", "rail_y", "rail_z")}
+    for side in range(2):
+        ws, rs, pr = wsamp[side], rsamp[side], placed[side]
+        wy = ws.y
+        rgrid = rs.y
+        for slot in range(2):
+            m = found[side, slot]
+            if not m.any():
+                continue
+            sc = ws.y0 + kk[side, slot, m] * ws.h
+            out["s"][side, slot, m] = sc
+            zw = np.interp(sc, wy, ws.z)
+            out["r"][side, slot, m] = r0 - zw
+            out["gamma"][side, slot, m] = np.interp(sc, wy, ws.angle)
+            out["k_wheel"][side, slot, m] = np.interp(sc, wy, ws.curvature)
+            e = eta[side, slot, m]
+            out["z_contact"][side, slot, m] = np.interp(e, rgrid, rs.z)
+            out["gamma_rail"][side, slot, m] = np.interp(e, rgrid, rs.angle)
+            out["k_rail"][side, slot, m] = -np.interp(e, rgrid, rs.curvature)
+            py, pz = pr.to_profile(e, out["z_contact"][side, slot, m])
+            out["rail_y"][side, slot, m] = py
+            out["rail_z"][side, slot, m] = pz
+    return out
+
+
 def search_contact(
     wheel: Profile | tuple[Profile, Profile],
     rail: Profile | tuple[Profile, Profile],
@@ -523,116 +653,27 @@ def search_contact(
     settings = settings or SearchSettings()
     wheels = _as_pair(wheel, "wheel")
     rails = _as_pair(rail, "rail")
-    h = settings.sampling
-    ell = settings.smoothing_length
-    wsamp: list[SampledProfile] = []
-    placed: list[PlacedRail] = []
-    rsamp: list[SampledProfile] = []
-    w_cache: dict[int, SampledProfile] = {}
-    r_cache: dict[int, tuple[PlacedRail, SampledProfile]] = {}
-    for side in range(2):
-        wp, rp = wheels[side], rails[side]
-        if id(wp) not in w_cache:
-            w_cache[id(wp)] = wp.curve(ell).sample(h)
-        if id(rp) not in r_cache:
-            pr = place_rail(rp.curve(ell), placement)
-            r_cache[id(rp)] = (pr, pr.sample(h))
-        wsamp.append(w_cache[id(wp)])
-        placed.append(r_cache[id(rp)][0])
-        rsamp.append(r_cache[id(rp)][1])
-
+    wsamp, placed, rsamp = _sampled_profiles(wheels, rails, placement, settings)
     dys = settings.grid
-    n = dys.size
-    res_phi = np.zeros(n)
-    res_lift = np.zeros((2, n))
-    res_slot = np.zeros((2, 2, n, 4))
-    res_edge = np.zeros(n, dtype=np.int64)
-    wl, wr = wsamp
-    rl, rr = rsamp
-    _search(dys, bool(settings.roll),
-            wl.z, wl.y0, wl.h, wl.angle, rl.z, rl.y0, rl.h,
-            wr.z, wr.y0, wr.h, wr.angle, rr.z, rr.y0, rr.h,
-            placement.taping_line, placement.r0, settings.flange_angle,
-            res_phi, res_lift, res_slot, res_edge)
-    bad = np.flatnonzero(res_edge)
-    if bad.size:
-        worst = dys[bad[np.argmin(np.abs(dys[bad]))]]
-        raise ScenarioError(
-            f"contact search: at Δy = {worst * 1e3:.3f} mm the contact reaches the end of a "
-            f"profile ({wheels[0].name} / {rails[0].name}): the profiles do not cover the "
-            "contact; reduce the Δy range or use longer profiles"
-        )
-
-    found = res_slot[..., 0] > 0.5
-    gap = np.where(found, res_slot[..., 1], np.inf)
-    # the rigid contact has gap 0 exactly (removes the parabola refinement's ~1e-9 m offset)
-    gmin = gap.min(axis=1, keepdims=True)
-    gap = np.where(found, gap - gmin, np.inf)
-    rigid = np.argmin(gap, axis=1)
-    lift = res_lift - gmin[:, 0, :]
+    res_phi, res_lift, res_slot = _solve_grid(dys, wsamp, rsamp, placement, settings,
+                                              (wheels[0].name, rails[0].name))
+    found, gap, rigid, lift = _rigid_gaps(res_slot, res_lift)
     kk = res_slot[..., 2]
     eta = res_slot[..., 3]
-
-    sh = (2, 2, n)
-    s = np.full(sh, np.nan)
-    r = np.full(sh, np.nan)
-    gam = np.full(sh, np.nan)
-    kw = np.full(sh, np.nan)
-    zc = np.full(sh, np.nan)
-    gr = np.full(sh, np.nan)
-    kr = np.full(sh, np.nan)
-    ry = np.full(sh, np.nan)
-    rz = np.full(sh, np.nan)
-    r0 = placement.r0
-    for side in range(2):
-        ws, rs, pr = wsamp[side], rsamp[side], placed[side]
-        wy = ws.y
-        rgrid = rs.y
-        for slot in range(2):
-            m = found[side, slot]
-            if not m.any():
-                continue
-            sc = ws.y0 + kk[side, slot, m] * ws.h
-            s[side, slot, m] = sc
-            zw = np.interp(sc, wy, ws.z)
-            r[side, slot, m] = r0 - zw
-            gam[side, slot, m] = np.interp(sc, wy, ws.angle)
-            kw[side, slot, m] = np.interp(sc, wy, ws.curvature)
-            e = eta[side, slot, m]
-            zc[side, slot, m] = np.interp(e, rgrid, rs.z)
-            gr[side, slot, m] = np.interp(e, rgrid, rs.angle)
-            kr[side, slot, m] = -np.interp(e, rgrid, rs.curvature)
-            py, pz = pr.to_profile(e, zc[side, slot, m])
-            ry[side, slot, m] = py
-            rz[side, slot, m] = pz
-
+    pts = _contact_point_fields(found, kk, eta, wsamp, rsamp, placed, placement.r0)
     two_point = found.all(axis=1) & (gap.max(axis=1, where=found, initial=0.0)
                                       <= settings.two_point_tolerance)
 
     def fill(a: np.ndarray) -> np.ndarray:
         return _ro(_fill_inactive(a, found))
 
-    eta_f = np.where(found, eta, np.nan)
+    f = {name: fill(a) for name, a in pts.items()}
     return ContactGeometry(
-        y=_ro(dys),
-        roll=_ro(res_phi),
-        lift=_ro(lift),
-        active=_ro(found),
-        gap=_ro(gap),
-        s=fill(s),
-        eta=fill(eta_f),
-        rail_y=fill(ry),
-        rail_z=fill(rz),
-        z_contact=fill(zc),
-        r=fill(r),
-        gamma=fill(gam),
-        gamma_rail=fill(gr),
-        k_wheel=fill(kw),
-        k_rail=fill(kr),
-        rigid=_ro(rigid),
-        two_point=_ro(two_point),
-        placement=placement,
-        settings=settings,
+        y=_ro(dys), roll=_ro(res_phi), lift=_ro(lift), active=_ro(found), gap=_ro(gap),
+        s=f["s"], eta=fill(np.where(found, eta, np.nan)), rail_y=f["rail_y"],
+        rail_z=f["rail_z"], z_contact=f["z_contact"], r=f["r"], gamma=f["gamma"],
+        gamma_rail=f["gamma_rail"], k_wheel=f["k_wheel"], k_rail=f["k_rail"],
+        rigid=_ro(rigid), two_point=_ro(two_point), placement=placement, settings=settings,
         wheel_names=(wheels[0].name, wheels[1].name),
         rail_names=(rails[0].name, rails[1].name),
         rail_origin=_ro(np.array([list(placed[0].origin), list(placed[1].origin)])),
