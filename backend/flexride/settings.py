@@ -222,6 +222,12 @@ class Settings(BaseSettings):
         description="Threads of the API for its synchronous routes (reads of the store and "
         "the result files)",
     )
+    gc_freeze: bool = Field(
+        True,
+        description="Exclude the objects made at start-up (they live as long as the process) "
+        "from Python's full garbage collections, whose pauses otherwise stalled every request "
+        "in flight for about 0.1 s now and then",
+    )
     fe_wait_s: float = Field(
         3.0, ge=0.0, le=60.0,
         description="How long GET /fe waits for a running FE build before answering 202 (s)",

@@ -36,12 +36,14 @@ TEST_TOKEN = "Qm7vR2xK9pLw4ZtB-e3Nc"
 
 
 def make_settings(data_dir: Path, **kw: Any) -> Settings:
-    """Settings for a test: data and caches under ``data_dir``, no runner unless given, and
-    ``testserver`` (the host of fastapi's TestClient) among the allowed hosts."""
+    """Settings for a test: data and caches under ``data_dir``, no runner unless given,
+    ``testserver`` (the host of fastapi's TestClient) among the allowed hosts, and no
+    ``gc.freeze`` at start-up (a test process makes and drops many apps)."""
     kw.setdefault("runner", "none")
     kw.setdefault("allowed_hosts", "testserver")
     kw.setdefault("cache_dir", data_dir / "cache")
     kw.setdefault("frontend_dir", None)
+    kw.setdefault("gc_freeze", False)  # test processes make and drop many apps
     return Settings(_env_file=None, data_dir=data_dir, **kw)
 
 

@@ -10,6 +10,7 @@ Run it with ``flexride serve``, or ``uvicorn --factory flexride.api.main:create_
 from __future__ import annotations
 
 import base64
+import gc
 import hashlib
 import logging
 import re
@@ -218,6 +219,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         sweep_deleted(services)
         services.runner.start()
         services.reaper.start()
+        if settings.gc_freeze:
+            # everything made so far (modules, the app, schemas, the store) lives as long as
+            # the process: keep it out of the collector's full passes, which otherwise stalled
+            # every request in flight for ~0.1 s now and then (p99 of 50 readers 239 → 84 ms)
+            gc.freeze()
         log.info("flexride API %s: runner %s, store %s, results in %s", __version__,
                  services.runner.kind, services.store.engine.url.render_as_string(),
                  services.files.root)

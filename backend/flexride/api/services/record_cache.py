@@ -91,15 +91,27 @@ def cached_record(request: Request, svc: Services, endpoint: str, params: Hashab
     version = svc.store.data_version()
     if version is None:
         return build()
-    lru, key = _cache(svc.store), (endpoint, params, version)
-    rendered = lru.get(key)
-    if rendered is None:
+
+    def make() -> tuple[Rendered, int]:
         answer = build()
         if not settled(answer):
-            return answer
+            raise _Unsettled(answer)
         rendered = _render(answer, gzip_settings(request.app))
-        lru.put(key, rendered, rendered.nbytes)
+        return rendered, rendered.nbytes
+
+    try:  # concurrent requests after a change build the answer once
+        rendered = _cache(svc.store).get_or_make((endpoint, params, version), make)
+    except _Unsettled as unsettled:
+        return unsettled.answer  # type: ignore[return-value]
     return rendered.response(accepts_gzip(request))
+
+
+class _Unsettled(Exception):
+    """An answer that must not be kept (it has queued or running jobs)."""
+
+    def __init__(self, answer: BaseModel):
+        super().__init__("unsettled")
+        self.answer = answer
 
 
 def _render(answer: BaseModel, gz: tuple[int, int] | None) -> Rendered:
