@@ -10,6 +10,7 @@ from pydantic import (
     BeforeValidator,
     ConfigDict,
     Field,
+    model_validator,
 )
 
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
@@ -21,6 +22,31 @@ _NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9 _.+-]{0,79}$"
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
+
+
+class ScenarioInput(_Strict):
+    """Where a request's scenario comes from: a full scenario, or a preset, each with dotted-path
+    overrides applied last (one loader resolves it: ``scenario.loading.resolve_scenario``).
+    """
+
+    scenario: dict[str, Any] | None = Field(
+        None,
+        description="Full scenario, see GET /api/v1/schemas/scenario; may start from "
+        "'preset: NAME' and give only what differs",
+    )
+    preset: str | None = Field(None, max_length=80, description="Preset name (GET /presets)")
+    overrides: dict[str, Any] = Field(
+        default_factory=dict,
+        max_length=200,
+        description="Dotted path → value, applied last, e.g. {\"speed_kmh\": 60, "
+        "\"solver.dt\": 5e-5}",
+    )
+
+    @model_validator(mode="after")
+    def _one_source(self) -> ScenarioInput:
+        if (self.scenario is None) == (self.preset is None):
+            raise ValueError("give either 'scenario' or 'preset' (not both)")
+        return self
 
 
 # -- errors ----------------------------------------------------------------------------------

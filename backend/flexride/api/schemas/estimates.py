@@ -6,9 +6,9 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field
 
-from flexride.api.schemas.common import _Strict
+from flexride.api.schemas.common import ScenarioInput, _Strict
 from flexride.vehicle.topology import PAPER_POINT_NAMES
 
 MAX_SWEEP_VALUES = 100
@@ -32,7 +32,7 @@ class SweepSpec(_Strict):
         "the scenario: a value that makes it invalid is a 422 at ['sweep', 'values', i]")
 
 
-class EstimateCreate(_Strict):
+class EstimateCreate(ScenarioInput):
     """A frequency-domain estimate: the scenario input of ``POST /jobs`` (a full scenario, or a
     preset with dotted-path overrides) and the estimate's options.
     """
@@ -44,18 +44,6 @@ class EstimateCreate(_Strict):
         {"scenario": {"preset": "paper-random-curve-80"}, "points": ["PC"], "strict": False},
     ]})
 
-    scenario: dict[str, Any] | None = Field(
-        None,
-        description="Full scenario, see GET /api/v1/schemas/scenario; may start from "
-        "'preset: NAME' and give only what differs",
-    )
-    preset: str | None = Field(None, max_length=80, description="Preset name (GET /presets)")
-    overrides: dict[str, Any] = Field(
-        default_factory=dict,
-        max_length=200,
-        description="Dotted path → value, applied last, e.g. {\"speed_kmh\": 60, "
-        "\"vehicle.secondary.kz\": 3e5}",
-    )
     points: list[str] = Field(
         default_factory=lambda: list(PAPER_POINT_NAMES), min_length=1, max_length=MAX_POINTS,
         description="Recorded points to estimate: car-body point names (PC, PR …) or "
@@ -71,11 +59,6 @@ class EstimateCreate(_Strict):
         None, description="Estimate the scenario at each of several values of one field "
         "instead (the answer is then the series of every index against the values)")
 
-    @model_validator(mode="after")
-    def _one_source(self) -> EstimateCreate:
-        if (self.scenario is None) == (self.preset is None):
-            raise ValueError("give either 'scenario' or 'preset' (not both)")
-        return self
 
 
 class EstimateOut(BaseModel):

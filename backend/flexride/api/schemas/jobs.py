@@ -11,7 +11,6 @@ from pydantic import (
     Field,
     computed_field,
     field_validator,
-    model_validator,
 )
 
 from flexride.api.schemas.common import (
@@ -19,14 +18,14 @@ from flexride.api.schemas.common import (
     Epoch,
     JobKind,
     JobStatus,
-    _Strict,
+    ScenarioInput,
 )
 from flexride.settings import API_PREFIX
 
 # -- jobs ------------------------------------------------------------------------------------
 
 
-class JobCreate(_Strict):
+class JobCreate(ScenarioInput):
     """A simulation job: a full scenario, or a preset with dotted-path overrides."""
 
     # Examples are published without null values (FastAPI drops None from the OpenAPI
@@ -39,28 +38,11 @@ class JobCreate(_Strict):
          "name": "metro-60", "reuse": False},
     ]})
 
-    scenario: dict[str, Any] | None = Field(
-        None,
-        description="Full scenario, see GET /api/v1/schemas/scenario; may start from "
-        "'preset: NAME' and give only what differs",
-    )
-    preset: str | None = Field(None, max_length=80, description="Preset name (GET /presets)")
-    overrides: dict[str, Any] = Field(
-        default_factory=dict,
-        max_length=200,
-        description="Dotted path → value, applied last, e.g. {\"speed_kmh\": 60, "
-        "\"solver.dt\": 5e-5}",
-    )
     name: str | None = Field(None, pattern=_NAME_PATTERN, description="Job name")
     reuse: bool = Field(
         True, description="Reuse the stored results of an identical scenario (content hash)"
     )
 
-    @model_validator(mode="after")
-    def _one_source(self) -> JobCreate:
-        if (self.scenario is None) == (self.preset is None):
-            raise ValueError("give either 'scenario' or 'preset' (not both)")
-        return self
 
 
 class JobOut(BaseModel):

@@ -19,6 +19,7 @@ from flexride.api.schemas.common import (
     BodyModelName,
     Epoch,
     JobStatus,
+    ScenarioInput,
     _Strict,
 )
 from flexride.settings import API_PREFIX
@@ -26,18 +27,8 @@ from flexride.settings import API_PREFIX
 # -- studies ---------------------------------------------------------------------------------
 
 
-class ScenarioSource(_Strict):
+class ScenarioSource(ScenarioInput):
     """The base scenario of a study: a full scenario or a preset, with overrides."""
-
-    scenario: dict[str, Any] | None = None
-    preset: str | None = Field(None, max_length=80)
-    overrides: dict[str, Any] = Field(default_factory=dict, max_length=200)
-
-    @model_validator(mode="after")
-    def _one_source(self) -> ScenarioSource:
-        if (self.scenario is None) == (self.preset is None):
-            raise ValueError("give either 'scenario' or 'preset' (not both)")
-        return self
 
 
 class Condition(_Strict):
