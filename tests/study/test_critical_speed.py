@@ -87,3 +87,7 @@ def test_cli_prints_and_refuses_bad_ranges():
     r = CliRunner().invoke(app, ["critical-speed", "--preset", "paper-metro", "--v-min", "90",
                                  "--v-max", "60"])
     assert r.exit_code == 2 and r.stderr.strip().startswith("error: need 0 < --v-min")
+    r = CliRunner().invoke(app, ["critical-speed", "--preset", "paper-metro", "--v-max", "300",
+                                 "--no-linear"])  # beyond the scenario's speed range
+    assert r.exit_code == 2 and len(r.stderr.strip().splitlines()) == 1
+    assert "speed_kmh" in r.stderr and "Traceback" not in r.output

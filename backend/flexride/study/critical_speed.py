@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from flexride.errors import FlexrideError
-from flexride.scenario.scenario import Scenario
+from flexride.scenario.scenario import Scenario, scenario_from_dict
 
 
 @dataclass(frozen=True)
@@ -97,7 +97,7 @@ def smooth_straight(scenario: Scenario, speed_kmh: float, distance_m: float) -> 
     data = scenario.model_dump(mode="json")
     data.update(line={"kind": "straight"}, excitation=[], speed_kmh=float(speed_kmh),
                 duration_s=None, distance_m=float(distance_m))
-    return Scenario.model_validate(data)
+    return scenario_from_dict(data, source=f"smooth straight track at {speed_kmh:g} km/h")
 
 
 def _amplitude(y: np.ndarray) -> float:
