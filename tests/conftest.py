@@ -4,14 +4,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexride.scenario.presets import load_preset
+from flexride.scenario.presets import REAL_PROFILES, load_preset
 from flexride.scenario.scenario import Scenario
 
-#: Real profiles as a run with them is set up: S1002/60E1 at 1:40 with the EN flange-back
-#: distance and the step their stiffer contact needs (docs/model.md)
-PROFILES_DT = 6.25e-5
-PROFILES = {"contact__geometry": "profiles", "contact__flange_back_distance": 1.36,
-            "solver__dt": PROFILES_DT}
+#: Real profiles as a run with them is set up (flexride.scenario.presets.REAL_PROFILES), as
+#: keyword overrides of :func:`preset`
+PROFILES_DT = REAL_PROFILES["solver.dt"]
+PROFILES = {k.replace(".", "__"): v for k, v in REAL_PROFILES.items()}
 
 
 def preset(name: str = "paper-metro", **overrides: Any) -> Scenario:

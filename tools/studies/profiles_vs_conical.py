@@ -25,13 +25,10 @@ from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 from flexride.analysis import analyze
-from flexride.scenario.presets import load_preset
+from flexride.scenario.presets import REAL_PROFILES, load_preset
 from flexride.solver.simulate import simulate
 
 POINTS = ("PC", "PFB", "PR")
-PROFILES = {"contact.geometry": "profiles", "contact.flange_back_distance": 1.36,
-            "solver.dt": 6.25e-5}
-"""A run with real profiles as docs/model.md sets it up."""
 SAFETY = ("derailment_coefficient", "wheel_unloading", "wheelset_lateral_force")
 
 
@@ -41,7 +38,7 @@ def _case(condition: str, speed: int, body: str, geometry: str,
     if distance is not None:
         overrides["distance_m"] = distance
     if geometry == "profiles":
-        overrides.update(PROFILES)
+        overrides.update(REAL_PROFILES)
     sc = load_preset(f"paper-random-{condition}-{speed}", overrides)
     summary = analyze(simulate(sc))
     row: dict[str, Any] = {"condition": condition, "speed_kmh": speed, "body": body,
