@@ -27,6 +27,7 @@ import numba
 import numpy as np
 
 from flexride.solver.forces import evaluate
+from flexride.solver.linearise import state_jacobian_columns
 from flexride.solver.system import N_AUX, N_CST
 
 #: Step h of the irregularity perturbation (m) and of the slope perturbation (rad);
@@ -44,47 +45,6 @@ AFFINE_CHECK_RTOL = 1e-6
 #: Richardson extrapolation from STATE_STEP and 2·STATE_STEP, central difference with
 #: AFFINE_STEP.
 PLAIN, RICHARDSON, AFFINE = 0, 1, 2
-
-
-@numba.njit(cache=True)
-def _state_jacobian(sys, X, V, s, s_win0, wrt_velocity, steps, cols, out_a, out_aux):
-    """out_a[:, jj] = ∂A/∂X_j (or ∂A/∂V_j), out_aux[:, jj] the same of the flattened aux, for
-    j = cols[jj], central differences with step steps[jj].
-    """
-    n = X.shape[0]
-    nw = sys.ws_body.shape[0]
-    nm = sys.rail_kap.shape[0]
-    F = np.zeros(n)
-    Ap = np.zeros(n)
-    Am = np.zeros(n)
-    auxp = np.zeros((nw, 2, N_AUX))
-    auxm = np.zeros((nw, 2, N_AUX))
-    sn = np.zeros(nm)
-    cst = np.zeros((nw, 2, N_CST))
-    na = nw * 2 * N_AUX
-    for jj in range(cols.shape[0]):
-        j = cols[jj]
-        h = steps[jj]
-        if wrt_velocity:
-            old = V[j]
-            V[j] = old + h
-            evaluate(sys, X, V, s, s_win0, F, Ap, auxp, sn, cst, 0.0)
-            V[j] = old - h
-            evaluate(sys, X, V, s, s_win0, F, Am, auxm, sn, cst, 0.0)
-            V[j] = old
-        else:
-            old = X[j]
-            X[j] = old + h
-            evaluate(sys, X, V, s, s_win0, F, Ap, auxp, sn, cst, 0.0)
-            X[j] = old - h
-            evaluate(sys, X, V, s, s_win0, F, Am, auxm, sn, cst, 0.0)
-            X[j] = old
-        for i in range(n):
-            out_a[i, jj] = (Ap[i] - Am[i]) / (2.0 * h)
-        fp = auxp.reshape(na)
-        fm = auxm.reshape(na)
-        for i in range(na):
-            out_aux[i, jj] = (fp[i] - fm[i]) / (2.0 * h)
 
 
 @numba.njit(cache=True)
@@ -167,7 +127,7 @@ def state_jacobians(sys, X: np.ndarray, V: np.ndarray, s: float, s_win0: float,
     steps = np.ascontiguousarray(np.broadcast_to(np.asarray(step, dtype=float), idx.shape))
     out_a = np.empty((n, idx.size))
     out_aux = np.empty((na, idx.size))
-    _state_jacobian(sys, X.copy(), V.copy(), s, s_win0, wrt_velocity, steps, idx, out_a,
+    state_jacobian_columns(sys, X.copy(), V.copy(), s, s_win0, wrt_velocity, steps, idx, out_a,
                     out_aux)
     return out_a, out_aux
 

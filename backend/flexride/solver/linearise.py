@@ -12,28 +12,44 @@ from flexride.solver.system import N_AUX, N_CST
 
 
 @numba.njit(cache=True)
-def _jacobian(sys, X, V, s, s_win0, cols, wrt_velocity, h, F, A, aux, sn, cst, out):
-    """out[:, j] = ∂A/∂X[cols[j]] (or ∂A/∂V) by central differences with step h[j]."""
-    Ap = np.empty_like(A)
-    Am = np.empty_like(A)
+def state_jacobian_columns(sys, X, V, s, s_win0, wrt_velocity, steps, cols, out_a, out_aux):
+    """out_a[:, jj] = ∂A/∂X_j (or ∂A/∂V_j), out_aux[:, jj] the same of the flattened wheel
+    quantities ``aux``, for j = cols[jj], central differences with step steps[jj].
+    """
+    n = X.shape[0]
+    nw = sys.ws_body.shape[0]
+    nm = sys.rail_kap.shape[0]
+    F = np.zeros(n)
+    Ap = np.zeros(n)
+    Am = np.zeros(n)
+    auxp = np.zeros((nw, 2, N_AUX))
+    auxm = np.zeros((nw, 2, N_AUX))
+    sn = np.zeros(nm)
+    cst = np.zeros((nw, 2, N_CST))
+    na = nw * 2 * N_AUX
     for jj in range(cols.shape[0]):
         j = cols[jj]
+        h = steps[jj]
         if wrt_velocity:
             old = V[j]
-            V[j] = old + h[jj]
-            evaluate(sys, X, V, s, s_win0, F, Ap, aux, sn, cst, 0.0)
-            V[j] = old - h[jj]
-            evaluate(sys, X, V, s, s_win0, F, Am, aux, sn, cst, 0.0)
+            V[j] = old + h
+            evaluate(sys, X, V, s, s_win0, F, Ap, auxp, sn, cst, 0.0)
+            V[j] = old - h
+            evaluate(sys, X, V, s, s_win0, F, Am, auxm, sn, cst, 0.0)
             V[j] = old
         else:
             old = X[j]
-            X[j] = old + h[jj]
-            evaluate(sys, X, V, s, s_win0, F, Ap, aux, sn, cst, 0.0)
-            X[j] = old - h[jj]
-            evaluate(sys, X, V, s, s_win0, F, Am, aux, sn, cst, 0.0)
+            X[j] = old + h
+            evaluate(sys, X, V, s, s_win0, F, Ap, auxp, sn, cst, 0.0)
+            X[j] = old - h
+            evaluate(sys, X, V, s, s_win0, F, Am, auxm, sn, cst, 0.0)
             X[j] = old
-        for i in range(A.shape[0]):
-            out[i, jj] = (Ap[i] - Am[i]) / (2.0 * h[jj])
+        for i in range(n):
+            out_a[i, jj] = (Ap[i] - Am[i]) / (2.0 * h)
+        fp = auxp.reshape(na)
+        fm = auxm.reshape(na)
+        for i in range(na):
+            out_aux[i, jj] = (fp[i] - fm[i]) / (2.0 * h)
 
 
 def workspace(sys) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -63,9 +79,10 @@ def jacobian(
     step: float = 1e-7,
 ) -> np.ndarray:
     """∂A/∂X[:, cols] (or ∂A/∂V[:, cols]) by central differences (1/s² or 1/s)."""
-    F, A, aux, sn, cst = workspace(sys)
     cols = np.ascontiguousarray(cols, dtype=np.int64)
     out = np.empty((X.shape[0], cols.shape[0]))
+    out_aux = np.empty((sys.ws_body.shape[0] * 2 * N_AUX, cols.shape[0]))
     h = np.full(cols.shape[0], step)
-    _jacobian(sys, X.copy(), V.copy(), s, s_win0, cols, wrt_velocity, h, F, A, aux, sn, cst, out)
+    state_jacobian_columns(sys, X.copy(), V.copy(), s, s_win0, wrt_velocity, h, cols, out,
+                           out_aux)
     return out
