@@ -14,7 +14,7 @@ from flexride.frequency import sweep
 from flexride.frequency.comfort import ComfortTable
 from flexride.frequency.model import linearise, smooth_scenario
 from flexride.frequency.operating_point import solve_operating_point, warm_start
-from flexride.frequency.rebuild import ModelRebuilder, assemble_reusing, same_assembly
+from flexride.frequency.rebuild import ModelRebuilder, same_assembly
 from flexride.frequency.reduce import condensation, reduce_track
 from flexride.solver.assemble import assemble
 
@@ -87,7 +87,7 @@ def test_the_assembly_that_reuses_contact_tables_equals_assemble():
                        (BASE, {"vehicle__secondary__kz": 4.0e5}),
                        (BASE, {"contact__conicity": 0.1})]:
         sc = smooth_scenario(preset(name, **over))
-        assert same_assembly(assemble(sc), assemble_reusing(sc, contacts))
+        assert same_assembly(assemble(sc), assemble(sc, contact_tables=contacts))
     # one table for the conical contact of the paper's vehicle, one for conicity 0.1
     assert len(contacts) == 2
 

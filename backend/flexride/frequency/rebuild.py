@@ -52,7 +52,7 @@ from flexride.solver import system as S
 from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.vehicle.topology import VehicleModel
 
-__all__ = ["ModelRebuilder", "assemble_reusing", "changed_arrays", "same_assembly"]
+__all__ = ["ModelRebuilder", "changed_arrays", "same_assembly"]
 
 #: Largest change (m, rad, m/s, rad/s) of a coordinate or velocity the wheel quantities
 #: depend on for which the contact's state counts as unchanged: rounding of the steady state.
@@ -69,15 +69,6 @@ _SCRATCH = ("body_line",)
 _ELEMENT_ARRAYS = {"el_k", "el_c"}
 #: How a steady state was found, by :attr:`OperatingPoint.chord_iterations` (else chord).
 _START_KINDS = {-1: "cold_start", -2: "newton_from_previous"}
-
-
-def assemble_reusing(scenario: Scenario, contacts: dict[str, Any],
-                     vehicle: VehicleModel | None = None,
-                     sources: MeasuredSources = LIBRARY) -> A.Assembly:
-    """:func:`flexride.solver.assemble.assemble` with the contact tables kept in
-    ``contacts`` (taken when made from the same inputs, stored otherwise).
-    """
-    return A.assemble(scenario, vehicle, sources, contact_tables=contacts)
 
 
 def changed_arrays(a: S.SystemArrays, b: S.SystemArrays) -> set[str]:
@@ -225,7 +216,7 @@ class ModelRebuilder:
     def _assemble(self, scenario: Scenario, vehicle: VehicleModel | None) -> A.Assembly:
         """The assembly, with the contact tables kept between values."""
         n = len(self._contacts)
-        asm = assemble_reusing(scenario, self._contacts, vehicle, self.sources)
+        asm = A.assemble(scenario, vehicle, self.sources, contact_tables=self._contacts)
         self.stats["contact_table_made" if len(self._contacts) > n else "contact_table_reused"] += 1
         return asm
 
