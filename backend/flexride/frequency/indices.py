@@ -7,11 +7,13 @@ Gaussian response.
   :func:`flexride.analysis.weighting.weighting_response` (the same definitions the filters are
   built from).
 * Sperling, filter form: 4.42·a_B^0.3, a_B = √∫|B(f)|² G_d df.
-* Sperling, spectral form: the time-domain version cuts the record into 5 s rectangular
-  segments and sums W_i¹⁰ = 0.896¹⁰·a_i³F(f_i)/f_i over the lines f_i = k/5 s in 0.5–40 Hz,
-  with a_i² the power-averaged squared peak amplitude of line i. For a stationary process the
-  expected a_i² of a T = 5 s rectangular segment is 2∫G(f)·sinc²((f − f_i)T) df (Fejér kernel;
-  2G(f_i)/T for a smooth G), which is what is used: the index a long record converges to.
+* Sperling, spectral form: the time-domain version cuts the record into 5 s Hann segments,
+  power-averages the mean square of every line f_i = k/5 s, merges the lines into spectral
+  peaks (:func:`flexride.analysis.sperling.peak_lines`) and sums W¹⁰ = 0.896¹⁰·a³F(f)/f over
+  the peaks in 0.5–40 Hz. For a stationary process the expected mean square of line i is
+  ∫G(f)·K(f − f_i) df with K the window's spectral kernel (|Ŵ|²/(N Σw²), ∫K df = 1/T; so
+  G(f_i)/T for a smooth G); the same peaks are formed from these expectations: the index a
+  long record converges to.
 * G_d is the dynamic part the analysis applies Sperling to: G times the squared magnitude
   (1 − 1/(1 + (f/0.3)⁸))² of its quasi-static split.
 * EN 12299 N_MV: the 5 s mean square of the weighted acceleration is treated as σ²χ²_ν/ν with
@@ -27,10 +29,10 @@ import functools
 import math
 
 import numpy as np
-from scipy import stats
+from scipy import signal, stats
 
 from flexride.analysis.quasistatic import QUASISTATIC_DEFAULTS
-from flexride.analysis.sperling import SPERLING_DEFAULTS, frequency_correction
+from flexride.analysis.sperling import PEAK_HALF_WIDTH, SPERLING_DEFAULTS, index_of_spectrum
 from flexride.analysis.weighting import weighting_response
 
 __all__ = ["dynamic_part_gain", "expected_peak", "nmv_block_p95", "sperling_filter_from_psd",
@@ -76,28 +78,41 @@ def sperling_spectral_from_psd(f: np.ndarray, psd: np.ndarray, direction: str,
     segment_s : float
         Segment length of the time-domain definition (s).
     """
-    fl, fine, kernel = _fejer(float(f[-1]), float(segment_s))
+    fl, fine, kernel = _line_kernel(float(f[-1]), float(segment_s))
     g = np.atleast_2d(psd) * dynamic_part_gain(f)
     logg = np.log(np.maximum(g, 1e-300))
     gf = np.exp(np.array([np.interp(fine, f, row, left=-690.0, right=-690.0) for row in logg]))
-    amp2 = 2.0 * FINE_DF * gf @ kernel.T  # (rows, lines), (m/s²)²
-    factor = frequency_correction(fl, "vertical" if direction == "z" else "lateral") / fl
-    return 0.896 * np.sum((100.0 * np.sqrt(amp2)) ** 3 * factor, axis=-1) ** 0.1
+    power = FINE_DF * gf @ kernel.T  # (rows, lines): expected mean square per line, (m/s²)²
+    d = "vertical" if direction == "z" else "lateral"
+    return np.array([index_of_spectrum(row, fl, d) for row in power])
 
 
 @functools.lru_cache(maxsize=8)
-def _fejer(f_max: float, segment_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Sperling lines (Hz), the uniform fine grid up to ``f_max`` (Hz) and the Fejér kernel
-    sinc²((f − f_i)T) between them (lines × grid).
+def _line_kernel(f_max: float, segment_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The lines the spectral form looks at (Hz), the uniform fine grid up to ``f_max`` (Hz)
+    and the spectral window between them (lines × grid, -): a line's expected mean square
+    is ∫G(f)·K(f − f_i) df, K = |Ŵ((f − f_i)T)|²/(N Σw²) of the pinned window (∫K df = 1/T).
     """
-    lo, hi = SPERLING_DEFAULTS["band_hz"]
-    lines = np.arange(math.ceil(lo * segment_s - 1e-9), math.floor(hi * segment_s + 1e-9) + 1)
-    fl = lines / segment_s
+    hi = SPERLING_DEFAULTS["band_hz"][1]
+    n_lines = math.floor(hi * segment_s + 1e-9) + PEAK_HALF_WIDTH + 1
+    fl = np.arange(1, n_lines + 1) / segment_s
     fine = np.arange(FINE_DF, f_max, FINE_DF)
-    kernel = np.sinc((fine[None, :] - fl[:, None]) * segment_s) ** 2
+    offsets = (fine[None, :] - fl[:, None]) * segment_s  # in lines
+    kernel = _window_gain(offsets)
     for a in (fl, fine, kernel):
         a.setflags(write=False)
     return fl, fine, kernel
+
+
+def _window_gain(offset: np.ndarray, n: int = 4096, pad: int = 32) -> np.ndarray:
+    """|Ŵ(ν)|²/(N Σw²) of the pinned Sperling window at ``offset`` lines from its centre,
+    interpolated from a zero-padded FFT of an ``n``-sample window (continuous-time limit).
+    """
+    w = signal.get_window(SPERLING_DEFAULTS["window"], n, fftbins=True)
+    spec = np.abs(np.fft.fft(w, n * pad)) ** 2 / (n * np.sum(w**2))
+    nu = np.fft.fftfreq(n * pad, 1.0 / n)  # in lines (cycles per window)
+    order = np.argsort(nu)
+    return np.interp(offset, nu[order], spec[order], left=0.0, right=0.0)
 
 
 def _autocorrelation(f: np.ndarray, df: np.ndarray, g: np.ndarray, tau: np.ndarray

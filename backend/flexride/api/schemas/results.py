@@ -158,9 +158,11 @@ class SperlingChannel(BaseModel):
     value: float | None = Field(description="Spectral form (default), as in the summary")
     grade: str
     filter_value: float | None = Field(None, description="Filter form, for comparison")
-    frequencies: list[float] = Field(description="Spectral lines used (Hz)")
-    line_amplitudes: list[float | None] = Field(description="Peak amplitude per line (m/s²)")
-    line_w: list[float | None] = Field(description="W_i per line")
+    frequencies: list[float] = Field(
+        description="Frequency of each sine (spectral peak) the index sums over (Hz)")
+    line_amplitudes: list[float | None] = Field(
+        description="Peak amplitude of each of those sines (m/s²)")
+    line_w: list[float | None] = Field(description="W_i of each of those sines (-)")
     bands: list[SperlingBand]
     segment_values: list[float | None]
     method: str

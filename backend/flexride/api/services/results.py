@@ -23,7 +23,7 @@ from flexride.analysis import (
     split_quasistatic,
     welch_psd,
 )
-from flexride.analysis.sperling import SPERLING_DEFAULTS, sperling_grade
+from flexride.analysis.sperling import record_sines, sperling_grade
 from flexride.analysis.timefreq import spectrogram_cells
 from flexride.api.deps import Services
 from flexride.api.errors import NotFound
@@ -227,23 +227,9 @@ def _direction(name: str) -> str:
                         "lateral (.y) acceleration channel")
 
 
-def _sperling_lines(x: np.ndarray, fs: float, direction: str) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies and power-averaged peak amplitudes of the lines of the spectral form."""
-    seg = round(SPERLING_DEFAULTS["segment_s"] * fs)
-    lo, hi = SPERLING_DEFAULTS["band_hz"]
-    n_seg = x.size // seg
-    segs = x[: n_seg * seg].reshape(n_seg, seg)
-    segs = segs - segs.mean(axis=1, keepdims=True)
-    freqs = np.fft.rfftfreq(seg, 1.0 / fs)
-    tol = 1e-9 * fs
-    sel = (freqs >= lo - tol) & (freqs <= hi + tol) & (freqs > 0.0)
-    amp2 = ((2.0 / seg) * np.abs(np.fft.rfft(segs, axis=1)[:, sel])) ** 2
-    return freqs[sel], np.sqrt(amp2.mean(axis=0))
-
-
 def sperling_breakdown(svc: Services, job_id: str, channels: list[str],
                        dynamic: bool) -> dict[str, Any]:
-    """Sperling index per channel with its contribution per spectral line and per
+    """Sperling index per channel with its contribution per spectral peak (sine) and per
     third-octave band (spectral form, pinned defaults of :mod:`flexride.analysis.sperling`).
     """
     data = _read(svc, job_id, channels)
@@ -254,7 +240,7 @@ def sperling_breakdown(svc: Services, job_id: str, channels: list[str],
         direction = _direction(name)
         x, used_dynamic = _prepare(data.channels[name], fs, dynamic)
         res = sperling_spectral(x, fs, direction)
-        f, amp = _sperling_lines(x, fs, direction)
+        f, amp = record_sines(x, fs)
         w_i = 0.896 * ((100.0 * amp) ** 3 * frequency_correction(f, direction) / f) ** 0.1
         bands = []
         for c in _THIRD_OCTAVE_CENTRES:
