@@ -210,3 +210,35 @@ def test_published_examples_are_answered(sqlite_client):
     for example in schema["examples"]:
         r = _post(sqlite_client, example)
         assert r.status_code == 200, (example, r.text)
+
+
+def test_spectra_are_the_library_psds_and_integrate_to_the_rms(sqlite_client):
+    """With ``spectra`` the answer carries the grid and every channel's PSD (for the overlay on
+    a job's Welch PSD); their integral is the channel's variance (trapezoid rule on the
+    non-uniform grid, within 2 %)."""
+    import numpy as np
+
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "spectra": True})
+    assert r.status_code == 200, r.text
+    resp = r.json()["response"]
+    oracle = estimate(preset(BASE), points=["PC"]).to_dict(arrays=True)["response"]
+    _close(resp["psd"], oracle["psd"], 1e-12)
+    f = np.asarray(resp["frequencies_hz"])
+    assert np.all(np.diff(f) > 0) and f[0] <= 0.2 and f[-1] >= 60.0
+    for ch in ("carbody.PC.acc.y", "carbody.PC.acc.z"):
+        var = np.trapezoid(np.asarray(resp["psd"][ch]), f)
+        assert np.sqrt(var) == pytest.approx(resp["rms"][ch], rel=0.02), ch
+    # without the option the answer stays small
+    plain = _post(sqlite_client, {"preset": BASE, "points": ["PC"]}).json()["response"]
+    assert "psd" not in plain and "frequencies_hz" not in plain
+
+
+@pytest.mark.parametrize("extra, words", [
+    ({"sweep": {"parameter": "speed_kmh", "values": [60, 70]}}, "not with a sweep"),
+    ({"points": ["PC"] * 25}, "at most 24 points"),
+])
+def test_spectra_are_bounded(sqlite_client, extra, words):
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "spectra": True, **extra})
+    assert r.status_code == 422, r.text
+    item = r.json()["detail"][0]
+    assert item["loc"] == ["body", "spectra"] and words in item["msg"], item

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
 from flexride.api.schemas.common import ScenarioInput, _Strict
 from flexride.vehicle.topology import PAPER_POINT_NAMES
@@ -15,6 +15,8 @@ MAX_SWEEP_VALUES = 100
 """Most values of one sweep."""
 MAX_POINTS = 200
 """Most points asked for in one estimate."""
+MAX_SPECTRA_POINTS = 24
+"""Most points of an estimate that returns its spectra (two PSDs of about 10³ values each)."""
 
 TrackModelName = Literal["condensed", "modal", "rigid"]
 
@@ -58,6 +60,23 @@ class EstimateCreate(ScenarioInput):
     sweep: SweepSpec | None = Field(
         None, description="Estimate the scenario at each of several values of one field "
         "instead (the answer is then the series of every index against the values)")
+    spectra: bool = Field(
+        False, description="Also return the frequency grid and the one-sided acceleration PSD "
+        f"of every channel ((m/s²)²/Hz) in 'response' (not with a sweep; at most "
+        f"{MAX_SPECTRA_POINTS} points)")
+
+    @field_validator("spectra")
+    @classmethod
+    def _spectra_bounded(cls, v: bool, info: ValidationInfo) -> bool:
+        if not v:
+            return v
+        if info.data.get("sweep") is not None:
+            raise ValueError("spectra are returned for one scenario, not with a sweep")
+        n = len(info.data.get("points") or PAPER_POINT_NAMES)
+        if n > MAX_SPECTRA_POINTS:
+            raise ValueError(f"spectra are returned for at most {MAX_SPECTRA_POINTS} points, "
+                             f"got {n}")
+        return v
 
 
 
@@ -72,7 +91,8 @@ class EstimateOut(BaseModel):
     model: dict[str, Any] = Field(description=(
         "The linearised model: track model, sizes, operating point, modes below 30 Hz, static "
         "wheel loads, quasi-static accelerations, flags, timings"))
-    response: dict[str, Any] = Field(description="rms per channel and the input spectra")
+    response: dict[str, Any] = Field(description="rms per channel and the input spectra; with "
+                                     "'spectra' also frequencies_hz and psd per channel")
 
 
 class RefusedValue(BaseModel):

@@ -277,7 +277,7 @@ def _content(svc: Services, body: EstimateCreate, base: Scenario,
     sources = svc.uploads.sources
     if values is None or body.sweep is None:
         est = estimate(base, body.points, body.track, strict=body.strict, sources=sources)
-        return est.to_dict()
+        return est.to_dict(arrays=body.spectra)
     top = body.sweep.parameter.split(".")[0]
     res = sweep_scenarios(values, body.sweep.parameter, list(body.sweep.values), body.points,
                           body.track, strict=body.strict, sources=sources,
@@ -290,7 +290,8 @@ def _key(svc: Services, body: EstimateCreate, scenarios: list[Scenario],
     """Cache key: the canonical hash and the name of every scenario computed, the options and
     where uploads are read from.
     """
-    options = body.model_dump(mode="json", include={"points", "track", "strict", "sweep"})
+    options = body.model_dump(mode="json", include={"points", "track", "strict", "sweep",
+                                                     "spectra"})
     return canonical_json({"scenarios": [(scenario_hash(sc), sc.name) for sc in scenarios],
                            "options": options, "uploads": str(svc.uploads.sources.upload_dir),
                            "gzip": gzip_min})
