@@ -113,3 +113,21 @@ def test_vertical_above_lateral_ordering():
     data = StudyData([record("random-straight", v, values=vals) for v in (50.0, 80.0)])
     res = evaluate(claim, data)
     assert res.verdict == NOT_REPRODUCED and "PC 50" in res.value.words
+
+
+def test_table2_rms_index_is_read_as_the_filter_form_sperling():
+    """The paper's undefined "RMS index" is compared with Sperling's rms-based (filter) form
+    by the ±20 % rule; the plain rms (m/s²) is reported beside it and the note says it is a
+    reading."""
+    recs = [record("random-straight", 80.0, body, seed=1, values={("PC", "z"): {
+        "sperling": 1.7, "sperling_filter": f, "rms": 0.1}}) for body, f in
+        (("flexible", 1.80), ("rigid", 1.60))]
+    res = evaluate(BY_ID["table2.rms_z.flexible"], StudyData(recs))
+    out = res.to_dict()
+    assert res.verdict == REPRODUCED  # 1.80 against the paper's 1.77
+    assert out["flexride"]["value"] == pytest.approx(1.80)
+    assert out["flexride"]["values"]["rms_m_s2"] == pytest.approx(0.1)
+    assert "filter form" in out["flexride"]["words"] and "reading" in BY_ID[
+        "table2.rms_z.flexible"].reason
+    diff = evaluate(BY_ID["table2.rms_z.difference"], StudyData(recs)).to_dict()
+    assert diff["flexride"]["value"] == pytest.approx(1.80 / 1.60 - 1.0)

@@ -43,9 +43,12 @@ VERTICAL_LEVEL = (
     "assumed geometry (CG heights, bogie spacing: presets). One 18 s run scatters by about "
     "±10 % in rms (docs/analysis.md, 'Against the time-domain solver'); use --seeds N.")
 
-RMS_UNIT = (
-    "The paper's 'RMS index' has no unit or weighting, and 1.6–1.8 is no rms acceleration of "
-    "this vehicle in m/s²; only its flexible/rigid difference is compared.")
+RMS_INDEX = (
+    "The paper does not define its 'RMS index'. Its values (1.6–1.8) have no unit and lie on "
+    "the Sperling scale, and no rms acceleration of this vehicle is near 1.6 m/s², so flexride "
+    "reads it as Sperling's rms-based form, W = 4.42·a_B^0.3 with a_B the rms of the "
+    "B-weighted acceleration (the filter form, DESIGN §6), and reports that; the plain rms "
+    "(m/s²) is given beside it. This is a reading, not the paper's definition.")
 
 TABLE2_DIFF = (
     "The paper's difference column does not follow from its own values (1.76/1.71 is +2.9 %, "
