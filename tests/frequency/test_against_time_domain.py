@@ -1,5 +1,11 @@
 """The frequency-domain estimate against the time-domain solver, random straight track at 80
-and 50 km/h, rigid bodies.
+and 50 km/h, rigid bodies, conical tread.
+
+The comparison needs a contact geometry that is linear in the wheelset's displacement: the
+conical tread (``CONICAL``). The presets' S1002/60E1 pair jumps between contact points at
+0.2–0.5 mm, so a linearisation about the centred wheelset (local conicity 0.11) is not what a
+wheelset oscillating by millimetres sees (equivalent conicity 0.18–0.36); how far the estimate
+is then from the solver is measured in docs/analysis.md.
 
 Two links, each with its own oracle:
 
@@ -27,7 +33,7 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from conftest import preset
+from conftest import CONICAL, preset
 from flexride.analysis import apply_weighting, sperling
 from flexride.frequency import comfort, linear_model, linear_time_history, response
 from flexride.solver.assemble import assemble
@@ -56,7 +62,8 @@ def band_powers(f: np.ndarray, psd: np.ndarray, bands) -> np.ndarray:
 
 @pytest.fixture(scope="module", params=[80, 50])
 def case(request):
-    sc = preset(f"paper-random-straight-{request.param}", contact__flange_clearance=0.03)
+    sc = preset(f"paper-random-straight-{request.param}", **CONICAL,
+                contact__flange_clearance=0.03)
     res = simulate(sc)
     model = linear_model(sc)
     lin = linear_time_history(model, assemble(sc).irregularity, res.time)
@@ -143,7 +150,7 @@ def test_expected_third_octaves_against_a_long_record(long_record):
             assert np.all(np.abs(meas / est - 1.0) <= tol), (ch, (meas / est).round(3))
 
 
-def test_the_paper_case_flags_flange_contact():
-    """With the preset's 8 mm clearance the estimate says that flange contact is likely."""
-    table = comfort(response(linear_model(preset("paper-random-straight-80"))))
+def test_the_conical_case_flags_flange_contact():
+    """With the cone's 8 mm clearance the estimate says that flange contact is likely."""
+    table = comfort(response(linear_model(preset("paper-random-straight-80", **CONICAL))))
     assert any("flange contact likely" in f for f in table.flags)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import preset
+from conftest import CONICAL, preset
 from flexride.frequency import sweep
 from flexride.frequency.comfort import ComfortTable
 from flexride.frequency.model import linearise, smooth_scenario
@@ -21,6 +21,10 @@ from flexride.solver.assemble import assemble
 BASE = "paper-random-straight-80"
 POINTS = ["PC", "PFB"]
 RTOL = 1e-9
+#: The spectral Sperling index merges lines into peaks greedily from the strongest: a weak line
+#: between two peaks of nearly equal power goes to one or the other, so 1e-9 in a PSD can move
+#: it by more (4e-8 seen with the presets' profiles)
+RTOL_SPERLING = 1e-6
 
 
 def _indices(table: ComfortTable) -> dict[tuple[str, ...], float]:
@@ -42,7 +46,8 @@ def _assert_same(a: ComfortTable | None, b: ComfortTable | None) -> None:
     assert a is not None and b is not None
     ia, ib = _indices(a), _indices(b)
     assert ia.keys() == ib.keys()
-    bad = {k: (ia[k], ib[k]) for k in ia if abs(ia[k] - ib[k]) > RTOL * abs(ib[k])}
+    tol = {k: RTOL_SPERLING if k[-1] == "sperling" else RTOL for k in ia}
+    bad = {k: (ia[k], ib[k]) for k in ia if abs(ia[k] - ib[k]) > tol[k] * abs(ib[k])}
     assert not bad, bad
     assert a.flags == b.flags
 
@@ -69,8 +74,10 @@ def test_sweep_with_reuse_equals_rebuilds_from_scratch(path, values, jacobians):
 
 def test_a_refused_value_keeps_the_sweep_going():
     """The paper's curve (R 800 m) puts the leading wheelsets on their flanges: refused, with
-    its reason; a wider curve is estimated as a rebuild would."""
-    scenario = preset("paper-random-curve-80")
+    its reason; a wider curve is estimated as a rebuild would. Conical tread: with the presets'
+    S1002/60E1 a wide curve's equilibrium lies in the contact-point jump at 0.2–0.5 mm, where
+    the local linearisation is meaningless (docs/analysis.md)."""
+    scenario = preset("paper-random-curve-80", **CONICAL)
     values = [800.0, 3000.0, 3100.0]
     res = sweep(scenario, "line.radius_m", values, points=["PC"])
     oracle = sweep(scenario, "line.radius_m", values, points=["PC"], reuse=False)

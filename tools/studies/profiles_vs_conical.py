@@ -2,9 +2,9 @@
 
 Runs the paper's random straight and random curve conditions (German high disturbance,
 50–80 km/h, the presets' 400 m) with the car body rigid and flexible, once with the conical
-tread the paper presets use (conicity 0.05, flange contact as a dead-band spring) and once
-with real profiles (S1002 on 60E1 at 1:40, flange-back distance 1.36 m, the time step
-6.25e-5 s their stiffer tangential contact needs: docs/model.md), and prints
+tread of the first releases (conicity 0.05, flange contact as a dead-band spring, Δt 1e-4 s:
+``presets.CONICAL_TREAD``) and once as the presets run: real profiles (S1002 on 60E1 at 1:40,
+flange-back distance 1.36 m, Δt 1/12000 s: docs/model.md), and prints
 
 * lateral and vertical Sperling indices (spectral form) at PC, PFB and PR,
 * on the curve, the running-safety maxima: derailment coefficient Q/P, wheel unloading ΔP/P
@@ -25,7 +25,7 @@ from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 from flexride.analysis import analyze
-from flexride.scenario.presets import REAL_PROFILES, load_preset
+from flexride.scenario.presets import CONICAL_TREAD, load_preset
 from flexride.solver.simulate import simulate
 
 POINTS = ("PC", "PFB", "PR")
@@ -37,8 +37,8 @@ def _case(condition: str, speed: int, body: str, geometry: str,
     overrides: dict[str, Any] = {"bodies.carbody.model": body}
     if distance is not None:
         overrides["distance_m"] = distance
-    if geometry == "profiles":
-        overrides.update(REAL_PROFILES)
+    if geometry == "conical":  # the presets run S1002/60E1; the cone of the first releases
+        overrides.update(CONICAL_TREAD)
     sc = load_preset(f"paper-random-{condition}-{speed}", overrides)
     summary = analyze(simulate(sc))
     row: dict[str, Any] = {"condition": condition, "speed_kmh": speed, "body": body,

@@ -166,6 +166,15 @@ class ProfileContactTable:
             raise KeyError(f"unknown contact table field {name!r}; fields: {POINT_FIELDS}")
         return self.data[:, :, _F[name], :]
 
+    def rigid_delta_r(self) -> np.ndarray:
+        """Rolling-radius difference r_left − r_right of the rigid contacts [n] in m (the
+        input of :func:`flexride.contact.conicity.equivalent_conicity` on :attr:`y_grid`).
+        """
+        r = self.field("r")
+        idx = self.rigid_slot[:, None, :].astype(np.intp)
+        rigid = np.take_along_axis(r, idx, axis=1)[:, 0, :]
+        return rigid[0] - rigid[1]
+
     def flange_angle(self, touching: float = 1e-4) -> float:
         """Largest contact angle (rad) of the flange branch where it carries the rigid contact
         (gap below ``touching``, m), over both sides: the flange angle that Nadal's

@@ -14,6 +14,8 @@ import numpy as np
 
 from flexride.analysis.summary import ISO_WEIGHTINGS
 from flexride.analysis.weighting import weighting_response
+from flexride.contact.conicity import equivalent_conicity
+from flexride.contact.profile_table import ProfileContactTable
 from flexride.frequency import indices as ix
 from flexride.frequency.response import ResponseSpectra
 
@@ -152,13 +154,20 @@ def _dominant(resp: ResponseSpectra, shares: np.ndarray, row: int) -> list[dict[
             for k in top]
 
 
+#: Relative difference between local and equivalent conicity beyond which the estimate is
+#: flagged (the lateral car-body rms is then 17–29 % off the solver's, docs/analysis.md)
+CONICITY_MISMATCH = 0.25
+
+
 def _normal_tail(x: float) -> float:
     """P(Z > x) of a standard normal variable."""
     return 0.5 * math.erfc(x / math.sqrt(2.0))
 
 
 def _flags(resp: ResponseSpectra) -> list[str]:
-    """Wheel unloading or flange contact within :data:`N_SIGMA` standard deviations."""
+    """Wheel unloading or flange contact within :data:`N_SIGMA` standard deviations; with real
+    profiles, a contact geometry that is not linear over the wheelsets' motion.
+    """
     static = resp.model.static_wheel
     sigma = np.sqrt(resp.variance(resp.wheel_psd))
     flags = []
@@ -180,6 +189,38 @@ def _flags(resp: ResponseSpectra) -> list[str]:
                              f"clearance {clear * 1e3:.0f} mm {100 * p:.1f} % of the time "
                              "(Gaussian): flange contact likely, the linear estimate is "
                              "doubtful")
+    return flags + _profile_flags(resp, dict(zip(resp.wheel_channels, sigma, strict=True)))
+
+
+def _profile_flags(resp: ResponseSpectra, sigma: dict[str, float]) -> list[str]:
+    """Per wheelset, where the profiles' local conicity at the steady state and their
+    equivalent conicity (EN 15302, first harmonic) at the amplitude ŷ = √2·σ of the wheelset's
+    lateral motion on the rail differ by more than :data:`CONICITY_MISMATCH`: the estimate
+    linearises the first, the wheelset sees the second.
+    """
+    lin = resp.model.linearisation
+    table = None if lin is None else lin.op.asm.profiles
+    if resp.model.static_wheel["contact_model"] != "profiles" or not isinstance(
+            table, ProfileContactTable):
+        return []
+    y, dr = table.y_grid, table.rigid_delta_r()
+    flags = []
+    rel = resp.model.static_wheel["rel_disp_y"]
+    for key in [k for k in rel if k.endswith(".left")]:
+        right = key.removesuffix(".left") + ".right"
+        y0 = 0.5 * (rel[key] + rel[right])  # from the track centre: the rails' mean
+        s = sigma[f"{key}.rel_disp.y"]
+        amp = max(math.sqrt(2.0) * s, table.dy)
+        h = 2.0 * table.dy
+        local = float(np.interp(y0 + h, y, dr) - np.interp(y0 - h, y, dr)) / (4.0 * h)
+        equiv = float(equivalent_conicity(y, dr, np.array([amp]), method="harmonic")[0])
+        if not math.isfinite(equiv) or abs(equiv - local) > CONICITY_MISMATCH * max(
+                abs(equiv), abs(local)):
+            flags.append(f"{key.rsplit('.', 1)[0]}: contact geometry not linear over the "
+                         f"wheelset's motion: local conicity {local:.3f} at Δy = "
+                         f"{y0 * 1e3:.2f} mm, equivalent conicity {equiv:.3f} at ŷ = √2·σ = "
+                         f"{amp * 1e3:.1f} mm (EN 15302, first harmonic): the lateral estimate "
+                         "is doubtful")
     return flags
 
 
