@@ -21,6 +21,10 @@ import resource
 import tempfile
 import time
 
+TARGET_BUILD_S = 60.0
+TARGET_RSS_MB = 1024.0
+TARGET_LOAD_S = 0.1
+
 
 def _rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
@@ -95,6 +99,27 @@ def main() -> None:
     print(f"{'stage':38s} {'time (s)':>9} {'peak RSS (MB)':>14}  notes")
     for name, sec, mem, note in rows:
         print(f"{name:38s} {sec:9.3f} {mem:14.0f}  {note}")
+    _targets(rows)
+
+
+def _verdict(value: float, target: float, unit: str) -> str:
+    ok = "met" if value <= target else "MISSED"
+    return f"≤ {target:g} {unit}: {ok} (ratio {value / target:.2f})"
+
+
+def _targets(rows: list[tuple[str, float, float, str]]) -> None:
+    """Each method's build and cached load against the targets (≤ 60 s and ≤ 1 GB peak RSS
+    for the build, ≤ 0.1 s for the load), with the load average.
+    """
+    for name, sec, mem, _ in rows:
+        method = name.split(":")[0]
+        if name.endswith("build + reduce + report"):
+            print(f"target {method} build {_verdict(sec, TARGET_BUILD_S, 's')}; peak RSS "
+                  f"{_verdict(mem, TARGET_RSS_MB, 'MB')}")
+        elif name.endswith("cached load"):
+            print(f"target {method} cached load {_verdict(sec, TARGET_LOAD_S, 's')}")
+    one, five, _ = os.getloadavg()
+    print(f"load average {one:.2f} (1 min), {five:.2f} (5 min)")
 
 
 if __name__ == "__main__":

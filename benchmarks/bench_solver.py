@@ -6,7 +6,8 @@ wheel; the preset's own step is 6.25e-5 s, the benchmark keeps 1e-4 s so that th
 compares with earlier versions). Prints
 
 * compile time, cold (empty numba cache) and cached, measured in fresh processes;
-* wall time per simulated second and per step;
+* peak resident memory of a rigid 10 s run in a fresh process (target ≤ 250 MiB);
+* wall time per simulated second and per step (target ≤ 5 µs per step);
 * time per step split into vehicle / rail / contact force evaluation and the integrator update;
 * the same per step with the conical tread (``contact.geometry: conical``, one contact point
   and a flange spring per wheel) and the ratio profiles / conical (target ≤ 1.2×);
@@ -28,6 +29,8 @@ import numba
 import numpy as np
 
 TARGET_S_PER_10S = 1.0
+TARGET_US_PER_STEP = 5.0
+TARGET_RSS_MIB = 250.0
 #: the reference step (the preset's own is smaller, see the module docstring)
 DT = {"solver.dt": 1.0e-4}
 
@@ -44,6 +47,24 @@ def _fresh_process_time(cache_dir: str) -> float:
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
                          check=True)
     return float(out.stdout.strip().splitlines()[-1])
+
+
+def _peak_rss_mib(duration_s: float) -> float:
+    """Peak resident memory (MiB) of a fresh process that runs the reference case rigid for
+    ``duration_s`` (import, compiled kernels from the cache, run, no file written).
+    """
+    import resource
+
+    code = (
+        "from flexride.scenario.presets import load_preset;"
+        "from flexride.solver.simulate import simulate;"
+        f"simulate(load_preset('paper-metro-random', {{'duration_s': {duration_s}, "
+        "'solver.dt': 1e-4}))"
+    )
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    return max(after, before) / 1024.0
 
 
 def _part_timings(asm, X0, s0, n=20000, repeats=3):
@@ -105,7 +126,8 @@ def main() -> None:
     from flexride.solver.static import initial_window_start, static_equilibrium
 
     print("flexride solver benchmark — reference case paper-metro-random (80 km/h, dt 1e-4 s)")
-    print(f"machine: {os.cpu_count()} cores, numba {numba.__version__}, numpy {np.__version__}")
+    print(f"machine: {os.cpu_count()} cores, numba {numba.__version__}, numpy {np.__version__}, "
+          f"load average {os.getloadavg()[0]:.2f} (1 min)")
     if not args.quick:
         with tempfile.TemporaryDirectory() as d:
             cold = _fresh_process_time(d)
@@ -114,6 +136,10 @@ def main() -> None:
         print(f"import + compile + 0.01 s run, cached     : {cached:7.2f} s")
 
     simulate(load_preset("paper-metro-random", {**DT, "duration_s": 0.05}))  # warm (compiled)
+    rss = _peak_rss_mib(10.0)
+    print(f"peak memory, rigid 10 s run (fresh process): {rss:7.1f} MiB  (target ≤ "
+          f"{TARGET_RSS_MIB:.0f} MiB: {'met' if rss <= TARGET_RSS_MIB else 'MISSED'}, ratio "
+          f"{rss / TARGET_RSS_MIB:.2f})")
     runs = [simulate(load_preset("paper-metro-random", {**DT, "duration_s": 10.0}))
             for _ in range(3)]
     times = sorted(r.meta["wall_time_solve_s"] for r in runs)
@@ -125,7 +151,10 @@ def main() -> None:
           f"(target ≤ {TARGET_S_PER_10S:.1f} s: {'met' if solve <= TARGET_S_PER_10S else 'MISSED'}"
           f", ratio {solve / TARGET_S_PER_10S:.2f}; best of 3, median {times[1]:.3f} s)")
     print(f"wall time per simulated second            : {solve / 10.0:7.4f} s")
-    print(f"time per step                             : {solve / steps * 1e6:7.2f} µs  "
+    us = solve / steps * 1e6
+    print(f"time per step (target ≤ {TARGET_US_PER_STEP:g} µs: "
+          f"{'met' if us <= TARGET_US_PER_STEP else 'MISSED'}, ratio {us / TARGET_US_PER_STEP:.2f})"
+          f" : {us:7.2f} µs  "
           f"({res.meta['n_dof']} coordinates, {res.meta['rail_modes_per_direction']} rail modes "
           "per rail and direction)")
 
@@ -199,6 +228,7 @@ def main() -> None:
         per_s_long = long.meta["wall_time_solve_s"] / 100.0
         print(f"route 10× longer (100 s): {per_s_long:.4f} s per simulated second, "
               f"ratio to the 10 s route {per_s_long / per_s_short:.2f}")
+    print(f"load average {os.getloadavg()[0]:.2f} (1 min)")
 
 
 if __name__ == "__main__":

@@ -45,6 +45,20 @@ FORMAT_VERSION = 3
 POINT_FRAME = ("nominal vehicle geometry: x from the car-body centre, forward positive; "
                "y left positive; z above top of rail (m)")
 
+TIMING_KEYS = ("setup_s", "solve_s", "write_s", "analyze_s")
+"""The phases of a run timed in ``timings`` (``flexride run --json``, job records)."""
+
+
+def run_timings(meta: dict[str, Any], write_s: float | None,
+                analyze_s: float | None) -> dict[str, float | None]:
+    """Wall time of each phase of a run (s): ``setup_s`` (assembly, static equilibrium,
+    stability check) and ``solve_s`` (time loop) from the run's ``meta``, ``write_s`` (results
+    file) and ``analyze_s`` (comfort and safety) as measured by the caller (None: not done).
+    """
+    values = (meta.get("wall_time_setup_s"), meta.get("wall_time_solve_s"), write_s, analyze_s)
+    return {k: None if v is None else round(float(v), 4)
+            for k, v in zip(TIMING_KEYS, values, strict=True)}
+
 
 @dataclass(frozen=True)
 class Channel:

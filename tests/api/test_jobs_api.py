@@ -115,3 +115,19 @@ def test_validate_checks_without_creating_a_job(sqlite_client):
         "preset": "paper-metro", "overrides": {**SHORT, "solver.dt": 1e-3}})
     assert unstable.status_code == 422 and unstable.json()["dt_suggested"] > 0
     assert sqlite_client.get("/api/v1/jobs").json()["total"] == 0
+
+
+def test_job_records_carry_the_timings_of_their_run(client):
+    from flexride.results import TIMING_KEYS, run_timings
+
+    svc = services(client)
+    results = synthetic_results()
+    meta = {**results.meta, "wall_time_setup_s": 0.12, "wall_time_solve_s": 1.5}
+    timings = run_timings(meta, 0.05, 0.2)
+    assert tuple(timings) == TIMING_KEYS
+    done = insert_finished_job(svc.store, svc.files, results,
+                               run_meta={**meta, "timings": timings})
+    assert client.get(f"{API}/jobs/{done}").json()["timings"] == {
+        "setup_s": 0.12, "solve_s": 1.5, "write_s": 0.05, "analyze_s": 0.2}
+    queued = _submit(client).json()
+    assert queued["timings"] is None

@@ -27,6 +27,9 @@ def test_health_and_version(client):
     assert body["status"] == "ok" and body["database"]["ok"]
     assert body["runner"] == "none" and body["broker"] is None
     assert body["database"]["data"]["latency_ms"] >= 0
+    solver = body["solver"]  # the dashboard's contract: state and an estimate while compiling
+    assert solver["state"] in ("ready", "compiling")
+    assert (solver["estimate_s"] is None) == (solver["state"] == "ready")
     v = client.get(f"{API}/version").json()
     assert v["api"] == "v1" and "numba" in v["libraries"]
 

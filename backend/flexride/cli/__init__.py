@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import sys
+import time
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
 
@@ -75,8 +76,10 @@ def _load(scenario_file: Path | None, preset: str | None, overrides: dict[str, A
     return resolve_scenario(preset=preset, overrides=overrides)
 
 
-def run_summary(results) -> dict[str, Any]:
-    """Peaks and rms per output point and direction (car body, frames, wheelsets)."""
+def run_summary(results, write_s: float | None = None) -> dict[str, Any]:
+    """Peaks and rms per output point and direction (car body, frames, wheelsets), comfort and
+    safety, and the wall time of each phase (``timings``; ``write_s`` the results file's, s).
+    """
     rows = []
     for ch in results.parsed():
         if ch.quantity != "acc":
@@ -95,18 +98,22 @@ def run_summary(results) -> dict[str, Any]:
             }
         )
     comfort: dict[str, Any] = {}
+    t_analyze = time.perf_counter()
     try:
         from flexride.analysis import analyze
 
         comfort = analyze(results).to_dict()
     except FlexrideError as exc:  # e.g. a run without car-body channels
         comfort = {"error": str(exc)}
+    analyze_s = time.perf_counter() - t_analyze
+    from flexride.results import run_timings
     return {
         "scenario": results.scenario.get("name"),
         "speed_kmh": results.meta.get("speed_kmh"),
         "duration_s": float(results.time[-1]) if results.time.size else 0.0,
         "output_rate_hz": results.meta.get("output_rate"),
         "wall_time_solve_s": results.meta.get("wall_time_solve_s"),
+        "timings": run_timings(results.meta, write_s, analyze_s),
         "accelerations": rows,
         "comfort": comfort,
     }
@@ -167,10 +174,12 @@ def run(
                 results = simulate(
                     scenario, progress=lambda f, m: bar.update(task, completed=f, msg=m)
                 )
+        t_write = time.perf_counter()
         path = results.write_hdf5(output)
+        write_s = time.perf_counter() - t_write
     except FlexrideError as exc:
         _fail(str(exc))
-    summary = run_summary(results)
+    summary = run_summary(results, write_s)
     summary["output_file"] = str(path)
     if as_json:
         typer.echo(json.dumps(summary, indent=2, default=float))

@@ -54,10 +54,18 @@ class NullRunner(JobRunner):
     kind = "none"
 
     def start(self) -> None:
-        """Nothing to start."""
+        """Load the solver's kernels for the submission check (compiled here if needed,
+        :data:`flexride.jobs.warmup.SOLVER`); nothing else to start.
+        """
+        from flexride.jobs.warmup import SOLVER
+
+        SOLVER.start(compile_here=True)
 
     def stop(self) -> None:
-        """Nothing to stop."""
+        """End a compilation started by :meth:`start`."""
+        from flexride.jobs.warmup import SOLVER
+
+        SOLVER.stop()
 
     def submit(self, job_ids: Sequence[str]) -> None:
         """Leave the jobs queued."""

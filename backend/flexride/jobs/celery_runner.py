@@ -51,7 +51,13 @@ class CeleryRunner(JobRunner):
         self._run_id: str | None = None
 
     def start(self) -> None:
-        """Send the jobs queued while the API was down (duplicates are harmless)."""
+        """Load (compiling in a child process if needed) the solver's kernels for the
+        submission check, and send the jobs queued while the API was down (duplicates are
+        harmless).
+        """
+        from flexride.jobs.warmup import SOLVER
+
+        SOLVER.start(compile_here=True)
         self._run_id = self._broker_run_id()
         queued = self.store.queued_ids(KIND)
         if queued:
@@ -59,7 +65,10 @@ class CeleryRunner(JobRunner):
             self.submit(queued)
 
     def stop(self) -> None:
-        """Close the broker connections."""
+        """End a compilation started by :meth:`start`; close the broker connections."""
+        from flexride.jobs.warmup import SOLVER
+
+        SOLVER.stop()
         try:
             self.app.close()
         except Exception:  # pragma: no cover - best effort

@@ -132,9 +132,10 @@ class EmbeddedRunner(JobRunner):
         The worker processes inherit one-thread BLAS/numba settings (set here, before they
         start, because they import NumPy before their own code runs).
         """
-        from flexride.jobs.warmup import single_threaded_env
+        from flexride.jobs.warmup import SOLVER, single_threaded_env
 
         single_threaded_env()
+        SOLVER.start(compile_here=False)  # the workers compile; the API loads what they made
         self._recover_dead()
         with self._lock:
             self._procs = [self._spawn(i) for i in range(self.settings.workers)]
@@ -219,6 +220,9 @@ class EmbeddedRunner(JobRunner):
 
     def stop(self) -> None:
         """Stop the processes (a running job is interrupted and queued again)."""
+        from flexride.jobs.warmup import SOLVER
+
+        SOLVER.stop()
         self._stopping.set()
         self._stop.set()
         self._wake.set()

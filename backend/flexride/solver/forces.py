@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 from flexride._numba_env import FASTMATH
 from flexride.contact.creep import creep_forces
@@ -856,3 +857,60 @@ def evaluate(sys, X, V, s, s_win0, F, A, aux, sn, cst, relax_dt):
     minv = sys.minv
     for i in range(n):
         A[i] = F[i] * minv[i]
+
+
+def route_inputs(sys, s: float) -> np.ndarray:
+    """The route-table values :func:`evaluate` can read with the vehicle centre at ``s`` (m),
+    whatever the coordinates and velocities: the inputs of every lookup of
+    :func:`vehicle_forces` (line table at each body, also half a table step either side) and
+    :func:`contact_forces` (irregularities at each wheelset).
+
+    Keep in step with those two functions: a setup cached by content
+    (:mod:`flexride.solver.setup_cache`) hashes this instead of the whole route, and its tests
+    check that changing the tables elsewhere changes neither this nor the setup.
+
+    Parameters
+    ----------
+    sys : SystemArrays
+        The assembled system.
+    s : float
+        Position of the vehicle centre on the line (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Flat float64 array, seven values per lookup (see :func:`_lookup_inputs`).
+    """
+    par = sys.par
+    out: list[np.ndarray] = []
+    lds = par.ln_ds
+    for b in range(par.n_bodies):
+        sb = s + float(sys.body_x[b])
+        for pos in (sb, sb + 0.5 * lds, sb - 0.5 * lds):
+            out.extend(_lookup_inputs(row, par.ln_s0, lds, pos, True) for row in sys.line)
+    for w in range(par.n_ws):
+        sw = s + float(sys.body_x[sys.ws_body[w]])
+        out.extend(_lookup_inputs(row, par.irr_s0, par.irr_ds, sw, False) for row in sys.irr)
+    return np.concatenate(out) if out else np.zeros(0)
+
+
+def _lookup_inputs(row: np.ndarray, y0: float, dy: float, y: float, clamped: bool
+                   ) -> np.ndarray:
+    """What an interpolation of ``row`` (grid origin ``y0``, step ``dy``) at ``y`` returns a
+    function of: the values at the grid points i − 1 … i + 2 around ``y`` (clamped indices);
+    and ``y0``, ``dy`` and the row's length unless the result does not depend on where ``y``
+    falls — the values are equal and either the lookup is ``clamped`` at the ends
+    (:func:`table_value`), the value is zero, or ``y`` lies two steps or more inside the grid
+    (:func:`_lerp_or_zero`, zero outside the grid); all zeros for such a lookup two steps or
+    more outside the grid.
+    """
+    n = row.shape[0]
+    u = (y - y0) / dy
+    i = int(np.clip(np.floor(u), 0, max(n - 1, 0)))
+    vals = row[np.clip(np.arange(i - 1, i + 3), 0, n - 1)] + 0.0  # −0.0 as 0.0
+    if not clamped and (u < -2.0 or u > n + 1.0):  # well outside: zero, whatever the values
+        return np.zeros(7)
+    constant = bool(np.all(vals == vals[0]))
+    if constant and (clamped or vals[0] == 0.0 or 2.0 <= u <= n - 3.0):
+        return np.append(vals, (0.0, 0.0, 0.0))
+    return np.append(vals, (y0, dy, float(n)))

@@ -27,23 +27,16 @@ def state_jacobian_columns(sys, X, V, s, s_win0, wrt_velocity, steps, cols, out_
     sn = np.zeros(nm)
     cst = np.zeros((nw, 2, N_CST))
     na = nw * 2 * N_AUX
+    P = V if wrt_velocity else X  # the perturbed vector
     for jj in range(cols.shape[0]):
         j = cols[jj]
         h = steps[jj]
-        if wrt_velocity:
-            old = V[j]
-            V[j] = old + h
-            evaluate(sys, X, V, s, s_win0, F, Ap, auxp, sn, cst, 0.0)
-            V[j] = old - h
-            evaluate(sys, X, V, s, s_win0, F, Am, auxm, sn, cst, 0.0)
-            V[j] = old
-        else:
-            old = X[j]
-            X[j] = old + h
-            evaluate(sys, X, V, s, s_win0, F, Ap, auxp, sn, cst, 0.0)
-            X[j] = old - h
-            evaluate(sys, X, V, s, s_win0, F, Am, auxm, sn, cst, 0.0)
-            X[j] = old
+        old = P[j]
+        for k in range(2):  # one call site: evaluate is compiled into this kernel once
+            P[j] = old + h if k == 0 else old - h
+            evaluate(sys, X, V, s, s_win0, F, Ap if k == 0 else Am, auxp if k == 0 else auxm,
+                     sn, cst, 0.0)
+        P[j] = old
         for i in range(n):
             out_a[i, jj] = (Ap[i] - Am[i]) / (2.0 * h)
         fp = auxp.reshape(na)

@@ -24,13 +24,20 @@ from flexride.solver.kernel import (
     STATUS_RUNAWAY,
     run_chunk,
 )
-from flexride.solver.stability import check_stability
-from flexride.solver.static import initial_window_start, static_equilibrium
+from flexride.solver.setup_cache import SetupCache, default_cache, run_setup
+from flexride.solver.stability import check_step
+from flexride.solver.static import initial_window_start
 from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.vehicle.topology import VehicleModel
 
 ProgressCallback = Callable[[float, str], None]
 CancelCallback = Callable[[], bool]
+
+CONTACT_TABLES: dict[str, Any] = {}
+"""Contact tables kept between the runs of this process (``assemble(contact_tables=…)``: by
+their inputs, at most :data:`~flexride.solver.assemble.MAX_KEPT_CONTACTS`)."""
+
+_DEFAULT = object()
 
 
 def _static_wheel_loads(asm: Assembly, X0: np.ndarray, s_win0: float) -> list[list[float]]:
@@ -54,7 +61,7 @@ def small_dense_problems() -> AbstractContextManager[Any]:
 
 
 def preflight(scenario: Scenario, vehicle: VehicleModel | None = None,
-              sources: MeasuredSources = LIBRARY) -> dict:
+              sources: MeasuredSources = LIBRARY, setup_cache: Any = _DEFAULT) -> dict:
     """Check a scenario without running it: assembly, static equilibrium and the time-step
     stability limit (raises :class:`~flexride.errors.StabilityError` with a step that works).
 
@@ -63,12 +70,15 @@ def preflight(scenario: Scenario, vehicle: VehicleModel | None = None,
     dict
         ``n_dof``, ``n_steps``, ``output_rate`` (Hz), ``stability`` (see
         :func:`~flexride.solver.stability.stability_limit`) and ``static_wheel_loads`` (N).
+        ``setup_cache`` as for :func:`simulate`.
     """
     with small_dense_problems():
-        asm = assemble(scenario, vehicle=vehicle, sources=sources)
+        asm = assemble(scenario, vehicle=vehicle, sources=sources, contact_tables=CONTACT_TABLES)
         s_win0 = initial_window_start(asm, 0.0)
-        X0 = static_equilibrium(asm, 0.0, s_win0)
-        stab = check_stability(asm, X0, 0.0, s_win0)
+        setup = run_setup(asm, 0.0, s_win0, True, _cache(setup_cache))
+        X0, stab = setup.X0, setup.stability
+        assert stab is not None  # asked for
+        check_step(stab, float(asm.sys.par.dt))
     return {"n_dof": int(X0.size), "n_steps": int(asm.n_steps), "output_rate": asm.output_rate,
             "stability": stab, "static_wheel_loads": _static_wheel_loads(asm, X0, s_win0)}
 
@@ -79,6 +89,7 @@ def simulate(
     cancel: CancelCallback | None = None,
     vehicle: VehicleModel | None = None,
     sources: MeasuredSources = LIBRARY,
+    setup_cache: Any = _DEFAULT,
 ) -> Results:
     """Simulate the vehicle running over the track of ``scenario``.
 
@@ -97,6 +108,10 @@ def simulate(
     sources : MeasuredSources
         Where measured irregularities may be read from (default: files by path; the service
         passes its upload store and forbids paths).
+    setup_cache : SetupCache or None, optional
+        Where the static equilibrium and the stability limit are kept by content
+        (:mod:`flexride.solver.setup_cache`); default the process-wide cache
+        (``$FLEXRIDE_SETUP_CACHE``), None computes them.
 
     Returns
     -------
@@ -116,18 +131,23 @@ def simulate(
     report = progress or (lambda f, m: None)
     report(0.0, "assembling")
     with small_dense_problems():
-        asm = assemble(scenario, vehicle=vehicle, sources=sources)
+        asm = assemble(scenario, vehicle=vehicle, sources=sources, contact_tables=CONTACT_TABLES)
         s_win0 = initial_window_start(asm, 0.0)
-        report(0.0, "static equilibrium")
-        X0 = static_equilibrium(asm, 0.0, s_win0)
-        stab = None
-        if scenario.solver.check_stability:
-            report(0.0, "checking the time step")
-            stab = check_stability(asm, X0, 0.0, s_win0)
+        report(0.0, "static equilibrium and time-step check")
+        check = scenario.solver.check_stability
+        setup = run_setup(asm, 0.0, s_win0, check, _cache(setup_cache))
+        X0 = setup.X0
+        stab = check_step(setup.stability, float(asm.sys.par.dt)) if setup.stability else None
     t_ready = time.perf_counter()
 
     V0 = convected_rail_velocity(asm, X0)
-    return integrate(asm, X0, V0, scenario, report, cancel, stab, t_start, t_ready)
+    return integrate(asm, X0, V0, scenario, report, cancel, stab, t_start, t_ready,
+                     setup_source=setup.source)
+
+
+def _cache(setup_cache: Any) -> SetupCache | None:
+    """The set-up cache a caller asked for (the process-wide one by default)."""
+    return default_cache() if setup_cache is _DEFAULT else setup_cache
 
 
 def convected_rail_velocity(asm: Assembly, X0: np.ndarray) -> np.ndarray:
@@ -373,11 +393,14 @@ def integrate(
     t_ready: float | None = None,
     X_ref: np.ndarray | None = None,
     final_state: dict | None = None,
+    setup_source: str | None = None,
 ) -> Results:
     """Integrate from the state (X0, V0) at t = 0 and collect the results.
 
     ``X_ref`` (default ``X0``) is the reference for displacement channels and runaway checks;
-    ``final_state``, if given, receives the final ``X`` and ``V``.
+    ``final_state``, if given, receives the final ``X`` and ``V``; ``setup_source`` (where
+    the static equilibrium and the stability limit came from, :class:`~flexride.solver.
+    setup_cache.Setup`) goes into the metadata.
     """
     t_start = time.perf_counter() if t_start is None else t_start
     t_ready = time.perf_counter() if t_ready is None else t_ready
@@ -408,6 +431,7 @@ def integrate(
         "static_wheel_loads": _static_wheel_loads(asm, X_ref, s_win0),
         "stability": stab,
         "wall_time_setup_s": t_ready - t_start,
+        "setup_source": setup_source,
         "wall_time_solve_s": t_end - t_loop,
         "cpu_time_solve_s": cpu_end - cpu_loop,
         "output_points": [p[0] for p in asm.vehicle.points if p[1] == 0],

@@ -133,8 +133,13 @@ def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> d
 
 def check_stability(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> dict:
     """Raise :class:`StabilityError` if the scenario's step exceeds the estimated limit."""
-    info = stability_limit(asm, X0, s, s_win0)
-    dt = float(asm.sys.par.dt)
+    return check_step(stability_limit(asm, X0, s, s_win0), float(asm.sys.par.dt))
+
+
+def check_step(info: dict, dt: float) -> dict:
+    """Raise :class:`StabilityError` if the step ``dt`` (s) exceeds the limit ``info`` of
+    :func:`stability_limit`; return ``info``.
+    """
     if dt > info["dt_max"]:
         raise StabilityError(
             f"time step solver.dt = {dt:g} s is beyond the stability limit of Zhai's explicit "

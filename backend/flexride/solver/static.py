@@ -22,6 +22,25 @@ def initial_window_start(asm: Assembly, s: float = 0.0) -> float:
     return float(np.floor((s + x_rear - margin) / d) * d)
 
 
+def _first_guess(asm: Assembly, s: float, X: np.ndarray) -> None:
+    """Each wheel carrying an eighth of the weight on its rail's vertical irregularity at
+    ``s`` (m): the wheelsets' height (m) and roll (rad) that close every Hertz contact by the
+    approach of that load (Newton's method from wheels off their rails takes many more steps).
+    """
+    sys = asm.sys
+    weight = asm.vehicle.total_mass * sys.par.gravity
+    n_wheels = 2 * len(asm.vehicle.wheelsets)
+    delta0 = sys.par.hertz_g * (weight / n_wheels) ** (2.0 / 3.0)
+    grid = sys.par.irr_s0 + sys.par.irr_ds * np.arange(sys.irr.shape[1])
+    for w in asm.vehicle.wheelsets:
+        x = s + float(sys.body_x[w])
+        z_left, z_right = (float(np.interp(x, grid, sys.irr[k], left=0.0, right=0.0))
+                           for k in (0, 1))
+        o = sys.body_off[w]
+        X[o + 2] = 0.5 * (z_left + z_right) - delta0
+        X[o + 3] = (z_left - z_right) / (2.0 * sys.par.b0)
+
+
 def static_equilibrium(
     asm: Assembly,
     s: float = 0.0,
@@ -35,6 +54,8 @@ def static_equilibrium(
     modes (longitudinal, lateral and yaw rigid-body coordinates stay at zero: on level straight
     track nothing loads them statically).
 
+    Newton's method starts from :func:`_first_guess`.
+
     Raises
     ------
     SimulationError
@@ -46,12 +67,7 @@ def static_equilibrium(
     n = sys.minv.shape[0]
     X = np.zeros(n)
     V = np.zeros(n)
-    # initial guess: each wheel carries an eighth of the weight (closes the Hertz contacts)
-    weight = asm.vehicle.total_mass * sys.par.gravity
-    n_wheels = 2 * len(asm.vehicle.wheelsets)
-    delta0 = sys.par.hertz_g * (weight / n_wheels) ** (2.0 / 3.0)
-    for w in asm.vehicle.wheelsets:
-        X[sys.body_off[w] + 2] = -delta0
+    _first_guess(asm, s, X)
     idx = asm.static_dofs
     scale = 1.0 / sys.minv[idx]  # residual in force units
     res_norm = np.inf

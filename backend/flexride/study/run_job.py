@@ -258,6 +258,7 @@ def run_simulation(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
     """A ``simulation`` job: simulate its scenario, write the results file, analyse them."""
     from flexride.analysis import analyze
     from flexride.analysis._common import jsonable
+    from flexride.results import run_timings
     from flexride.scenario.scenario import scenario_from_dict
     from flexride.solver import simulate
     from flexride.store.probe import dir_problem
@@ -271,13 +272,17 @@ def run_simulation(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
                        sources=UploadStore(ctx.settings.uploads_dir).sources)
     rep.progress(1.0, "writing results")
     name = ctx.files.name_for(job.id)
+    t_write = time.perf_counter()
     results.write_hdf5(ctx.files.path(name))
+    t_analyze = time.perf_counter()
     try:
         summary: dict[str, Any] = analyze(results).to_dict()
     except FlexrideError as exc:
         summary = {"error": f"{type(exc).__name__}: {exc}"}
-    return Outcome({"summary": summary, "result_file": name,
-                    "run_meta": jsonable(results.meta)}, written=name)
+    meta = jsonable(results.meta)
+    meta["timings"] = run_timings(results.meta, t_analyze - t_write,
+                                  time.perf_counter() - t_analyze)
+    return Outcome({"summary": summary, "result_file": name, "run_meta": meta}, written=name)
 
 
 def run_fe_export(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:

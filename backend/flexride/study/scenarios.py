@@ -135,6 +135,20 @@ PREFLIGHT = PreflightCache()
 """The process-wide submission-check cache."""
 
 
+def check_installable(scenario: Scenario) -> None:
+    """Refuse flexible bodies when this installation cannot build them (:class:`ScenarioError`
+    at the field).
+    """
+    bodies = scenario.bodies
+    flex = [f"bodies.{b}.model" for b in ("carbody", "frames")
+            if getattr(bodies, b).model == "flexible"]
+    if flex and not flexible_available():
+        raise ScenarioError(
+            f"scenario: {flex[0]}: flexible bodies are not available in this installation "
+            "(module flexride.fem.flexible is missing); use 'rigid'"
+        )
+
+
 def check_submission(scenario: Scenario, *, cache: PreflightCache = PREFLIGHT,
                      sources: MeasuredSources = LIBRARY) -> dict[str, Any]:
     """Refuse a scenario that cannot run: flexible bodies not installed, assembly failure, or a
@@ -146,14 +160,7 @@ def check_submission(scenario: Scenario, *, cache: PreflightCache = PREFLIGHT,
     dict
         ``n_dof``, ``output_rate_hz`` and ``stability`` (``dt_max``, ``dt_suggested``...).
     """
-    bodies = scenario.bodies
-    flex = [f"bodies.{b}.model" for b in ("carbody", "frames")
-            if getattr(bodies, b).model == "flexible"]
-    if flex and not flexible_available():
-        raise ScenarioError(
-            f"scenario: {flex[0]}: flexible bodies are not available in this installation "
-            "(module flexride.fem.flexible is missing); use 'rigid'"
-        )
+    check_installable(scenario)
     if not scenario.solver.check_stability:
         return {"stability": None}
     return cache.check(scenario, sources)

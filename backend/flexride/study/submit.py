@@ -21,7 +21,13 @@ from flexride.store.probe import dir_problem
 from flexride.store.uploads import UploadStore
 from flexride.study.admission import Limits, admit
 from flexride.study.expand import StudyPlan
-from flexride.study.scenarios import PREFLIGHT, PreflightCache, check_submission, scenario_hash
+from flexride.study.scenarios import (
+    PREFLIGHT,
+    PreflightCache,
+    check_installable,
+    check_submission,
+    scenario_hash,
+)
 
 if TYPE_CHECKING:
     from flexride.fem.export import ExportSpec
@@ -81,6 +87,25 @@ class Submitter:
         """
         return admit(scenario, self.limits, self.uploads.sources)
 
+    def check(self, scenario: Scenario) -> dict[str, Any]:
+        """The submission check (:func:`~flexride.study.scenarios.check_submission`) when it
+        can run without compiling the solver (:data:`flexride.jobs.warmup.SOLVER`); while the
+        solver is being compiled, ``{"deferred": reason}``: the worker checks the time step
+        before it runs (a step beyond the limit fails the job with the step to use).
+
+        Raises
+        ------
+        ScenarioError, StabilityError
+            The check refused the scenario.
+        """
+        from flexride.jobs.warmup import SOLVER
+
+        if not SOLVER.usable():
+            check_installable(scenario)
+            return {"deferred": "the solver is being compiled: the time step is checked by "
+                                "the worker before the run"}
+        return check_submission(scenario, cache=self.cache, sources=self.uploads.sources)
+
     def _record(self, scenario: Scenario, *, name: str, preset: str | None, reuse: bool,
                 study_id: str | None = None, index: int | None = None,
                 axes: dict[str, Any] | None = None) -> Submitted:
@@ -105,8 +130,7 @@ class Submitter:
                           result_file=file_name, summary=src.summary, run_meta=src.run_meta,
                           wall_time_s=0.0)
                 return Submitted(job, True, None)
-        pre = (check_submission(scenario, cache=self.cache, sources=self.uploads.sources)
-               if self.settings.preflight else None)
+        pre = self.check(scenario) if self.settings.preflight else None
         job = Job(**common, status="queued", progress=0.0, message="queued", run_meta={})
         return Submitted(job, False, pre)
 

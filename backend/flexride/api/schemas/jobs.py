@@ -45,6 +45,11 @@ class JobCreate(ScenarioInput):
 
 
 
+TIMINGS_DOC = ("Wall time of each phase of the run (s): setup_s (assembly, static equilibrium, "
+               "stability check), solve_s (time loop), write_s (results file), analyze_s "
+               "(comfort and safety); null before the run finished")
+
+
 class JobOut(BaseModel):
     """State of a job, read from its record (``JobOut.model_validate(job)``)."""
 
@@ -108,6 +113,13 @@ class JobOut(BaseModel):
         """Wall time of the solver loop from the run facts (s)."""
         value = (self.run_meta or {}).get("wall_time_solve_s")
         return None if value is None else float(value)
+
+    @computed_field(description=TIMINGS_DOC)  # type: ignore[prop-decorator]
+    @property
+    def timings(self) -> dict[str, float | None] | None:
+        """The run's ``timings`` from its facts (s), None before it finished."""
+        value = (self.run_meta or {}).get("timings")
+        return dict(value) if isinstance(value, dict) else None
 
     @computed_field(description="The job has results to read")  # type: ignore[prop-decorator]
     @property

@@ -42,6 +42,17 @@ class WorkerOut(BaseModel):
     current_job: str | None
 
 
+class SolverHealth(BaseModel):
+    """Whether the solver's compiled kernels are ready (jobs run at full speed, submissions are
+    checked for time-step stability at once) or still being compiled.
+    """
+
+    state: Literal["ready", "compiling"]
+    estimate_s: float | None = Field(
+        None, description="Seconds until the compilation is expected to end (null when "
+        "ready) (s)")
+
+
 class HealthOut(BaseModel):
     """Health of the API, the database, the broker and the workers."""
 
@@ -56,6 +67,8 @@ class HealthOut(BaseModel):
     broker: ComponentHealth | None = None
     workers: list[WorkerOut]
     jobs: dict[str, int]
+    solver: SolverHealth | None = Field(
+        None, description="Compilation state of the solver's kernels")
 
 
 class VersionOut(BaseModel):

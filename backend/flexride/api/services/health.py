@@ -50,9 +50,11 @@ def health(svc: Services, recent_fault: str | None = None) -> tuple[int, dict[st
         status = "degraded"
     else:
         status = "ok"
+    from flexride.jobs.warmup import SOLVER
+
     body = {"status": status, "version": __version__, "runner": svc.runner.kind, "api": api,
             "database": db, "storage": storage, "broker": broker, "workers": workers,
-            "jobs": jobs}
+            "jobs": jobs, "solver": SOLVER.status()}
     return (503 if status == "down" else 200), body
 
 

@@ -49,13 +49,9 @@ def validate_job(svc: Services, body: JobCreate) -> dict[str, Any]:
     anything: 200 with the run's size and the submission check, or the same 422 as a
     submission.
     """
-    from flexride.study.scenarios import check_submission
-
     scenario = resolve_scenario(body.scenario, body.preset, body.overrides)
     est = svc.submitter.admit(scenario)
-    return {"valid": True, "estimate": asdict(est),
-            "preflight": check_submission(scenario, cache=svc.submitter.cache,
-                                          sources=svc.uploads.sources)}
+    return {"valid": True, "estimate": asdict(est), "preflight": svc.submitter.check(scenario)}
 
 
 def get_job(svc: Services, job_id: str, *, scenario: bool = False,
