@@ -11,8 +11,8 @@ Usage (from the repository root, with nothing but python3 installed)::
     python3 tools/dev.py flexride ARGS  # create .venv, install flexride, run `flexride ARGS`
 
 Extra arguments go to ``flexride serve``, ``flexride run`` or pytest respectively. Before the
-tests, ``test`` installs Debian's chromium, firefox-esr, xvfb and a Compose CLI with apt-get
-when they are missing, and starts (or installs) Redis and PostgreSQL
+tests, ``test`` installs Debian's chromium, firefox-esr, xvfb, docker.io, debootstrap and a
+Compose CLI with apt-get when they are missing, and starts (or installs) Redis and PostgreSQL
 (``tools/ensure_services.sh``); it stops with one line naming what is missing when it cannot.
 ``FLEXRIDE_TEST_SETUP=skip`` leaves the machine as it is.
 """
@@ -64,13 +64,23 @@ def ensure_venv(extras: str = "") -> None:
 
 
 #: Debian packages the tests need, by the command that shows each is installed: the dashboard's
-#: browsers (never a browser download), a virtual display for Firefox's WebGL, a Compose CLI
-#: that validates docker-compose.yml.
-TEST_PACKAGES = {"chromium": "chromium", "firefox-esr": "firefox-esr", "Xvfb": "xvfb"}
+#: browsers (never a browser download), a virtual display for Firefox's WebGL, and for the
+#: deployment test (tests/deploy) a Docker engine and client and debootstrap, which makes the
+#: images' Debian base without a registry; a Compose CLI is checked below.
+TEST_PACKAGES = {"chromium": "chromium", "firefox-esr": "firefox-esr", "Xvfb": "xvfb",
+                 "dockerd": "docker.io", "docker": "docker.io", "debootstrap": "debootstrap"}
+#: Where Debian puts dockerd and debootstrap (not on every user's PATH)
+_SBIN = ("/usr/local/sbin", "/usr/sbin", "/sbin")
+
+
+def _installed(cmd: str) -> bool:
+    return shutil.which(cmd) is not None or any(
+        os.access(os.path.join(d, cmd), os.X_OK) for d in _SBIN)
 
 
 def _missing_packages() -> list[str]:
-    missing = [pkg for cmd, pkg in TEST_PACKAGES.items() if shutil.which(cmd) is None]
+    missing = list(dict.fromkeys(pkg for cmd, pkg in TEST_PACKAGES.items()
+                                 if not _installed(cmd)))
     compose = shutil.which("docker-compose") or (
         shutil.which("docker") and subprocess.call(
             ["docker", "compose", "version"], stdout=subprocess.DEVNULL,
@@ -87,8 +97,9 @@ def _as_root(cmd: list[str]) -> list[str]:
 
 
 def prepare_test_machine() -> str | None:
-    """Install or start what the tests need (Debian's browsers, Xvfb, a Compose CLI; Redis
-    and PostgreSQL via tools/ensure_services.sh); return why that failed, or None."""
+    """Install or start what the tests need (Debian's browsers, Xvfb, Docker, debootstrap, a
+    Compose CLI; Redis and PostgreSQL via tools/ensure_services.sh); return why that failed,
+    or None. The deployment test starts its own Docker daemon (tests/deploy/engine.py)."""
     missing = _missing_packages()
     if missing:
         print(f"installing {', '.join(missing)} with apt-get", flush=True)
