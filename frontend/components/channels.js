@@ -15,15 +15,21 @@ export function groupChannels(channels) {
   return [...groups].sort((a, b) => BODY_ORDER(a[0]).localeCompare(BODY_ORDER(b[0])));
 }
 
+/** The tooltip of a channel's option: `o.describe(channel)` for car-body channels (the
+ * point's description and position), else none. */
+function describe(o, c) {
+  return o.describe && (c.body || parseChannel(c.name)?.body) === "carbody" ? o.describe({ ...parseChannel(c.name), ...c }) : null;
+}
+
 /**
  * <select multiple> of channels with optgroups; onChange(names[]) after each change.
- * @param {{id: string, label: string, channels: object[], selected: string[], max?: number, size?: number, onChange: Function, filter?: Function}} o
+ * @param {{id: string, label: string, channels: object[], selected: string[], max?: number, size?: number, onChange: Function, filter?: Function, describe?: Function}} o
  */
 export function channelMultiSelect(o) {
   const chans = o.filter ? o.channels.filter(o.filter) : o.channels;
   const sel = h("select", { id: o.id, multiple: true, size: String(o.size || 9), "aria-describedby": `${o.id}-help` },
     groupChannels(chans).map(([body, list]) => h("optgroup", { label: body === "carbody" ? "car body" : body },
-      list.map((c) => h("option", { value: c.name, selected: o.selected.includes(c.name) }, `${c.point ?? ""} ${c.quantity ?? ""} ${c.direction ?? ""} (${prettyUnit(c.unit)})`.trim() || c.name)))));
+      list.map((c) => h("option", { value: c.name, selected: o.selected.includes(c.name), title: describe(o, c) }, `${c.point ?? ""} ${c.quantity ?? ""} ${c.direction ?? ""} (${prettyUnit(c.unit)})`.trim() || c.name)))));
   const help = h("p", { class: "help", id: `${o.id}-help` }, `Ctrl / Shift + click or Shift + arrows to choose several${o.max ? ` (up to ${o.max})` : ""}.`);
   sel.addEventListener("change", () => {
     let names = [...sel.selectedOptions].map((x) => x.value);
@@ -42,7 +48,7 @@ export function channelSelect(o) {
   const chans = o.filter ? o.channels.filter(o.filter) : o.channels;
   const sel = h("select", { id: o.id, onchange: () => o.onChange(sel.value) },
     groupChannels(chans).map(([body, list]) => h("optgroup", { label: body === "carbody" ? "car body" : body },
-      list.map((c) => h("option", { value: c.name, selected: c.name === o.selected }, channelLabel(c.name).replace(/^(car body|\w+ \d) /, "") + ` (${prettyUnit(c.unit)})`)))));
+      list.map((c) => h("option", { value: c.name, selected: c.name === o.selected, title: describe(o, c) }, channelLabel(c.name).replace(/^(car body|\w+ \d) /, "") + ` (${prettyUnit(c.unit)})`)))));
   return h("label", { for: o.id }, o.label, sel);
 }
 

@@ -55,8 +55,12 @@ export function fixed(v, d = 2) {
   return typeof v === "number" && Number.isFinite(v) ? v.toFixed(d) : "–";
 }
 
+/** A fraction as a signed percentage: +13.6 %, −2.0 % (a value that rounds to zero: 0.0 %). */
 export function pct(v, d = 1) {
-  return typeof v === "number" && Number.isFinite(v) ? `${v >= 0 ? "+" : ""}${(100 * v).toFixed(d)} %` : "–";
+  if (typeof v !== "number" || !Number.isFinite(v)) return "–";
+  const s = (100 * v).toFixed(d);
+  if (Number(s) === 0) return `${(0).toFixed(d)} %`;
+  return `${v > 0 ? "+" : "−"}${s.replace("-", "")} %`;
 }
 
 /** Seconds as "1.2 s", "3 min 4 s", "1 h 2 min". */
@@ -105,15 +109,23 @@ export function badge(status) {
   return h("span", { class: `badge st-${status}` }, status);
 }
 
-/** A progress bar with an accessible value. */
-export function progressBar(fraction, label = "Progress", status = "") {
+/** Whole percent of a fraction for people: 100 % only when the work is done – an unfinished
+ * (queued or running) one shows at most 99 %, and 99.6 % is not rounded up. */
+export function percentDone(fraction, status = "") {
   const p = Math.max(0, Math.min(1, Number(fraction) || 0));
-  const pctText = `${Math.round(100 * p)} %`;
+  const active = status === "queued" || status === "running";
+  return p >= 1 && !active ? 100 : Math.min(99, Math.floor(100 * p));
+}
+
+/** A progress bar with an accessible value (see percentDone). */
+export function progressBar(fraction, label = "Progress", status = "") {
+  const n = percentDone(fraction, status);
+  const pctText = `${n} %`;
   return h("div", {
     class: `progress st-${status}`, role: "progressbar", "aria-label": label,
-    "aria-valuemin": "0", "aria-valuemax": "100", "aria-valuenow": String(Math.round(100 * p)),
+    "aria-valuemin": "0", "aria-valuemax": "100", "aria-valuenow": String(n),
     "aria-valuetext": pctText,
-  }, h("div", { class: "progress-fill", style: { width: `${100 * p}%` } }),
+  }, h("div", { class: "progress-fill", style: { width: `${n}%` } }),
   h("span", { class: "progress-text" }, pctText));
 }
 
@@ -183,12 +195,16 @@ export function tabs(items, render, { label = "Views", initial } = {}) {
   return { el, select, set onSelect(fn) { onSelect = fn; } };
 }
 
-/** Sortable, accessible data table. columns: [{key, label, num?, format?(v,row), title?}] */
-export function dataTable(columns, rows, { caption, onRow, rowLabel, className = "" } = {}) {
+/**
+ * Sortable, accessible data table. columns: [{key, label, num?, format?(v,row), title?, sep?}];
+ * `groups` ([{label, span}], spans summing to the column count) adds a header row above the
+ * columns (e.g. "Vertical" over its columns). A table wider than its box shows a scroll cue.
+ */
+export function dataTable(columns, rows, { caption, onRow, rowLabel, className = "", groups = null, rowClass = null } = {}) {
   let sortKey = null;
   let asc = true;
   const tbody = h("tbody");
-  const heads = columns.map((c) => h("th", { scope: "col", class: c.num ? "num" : "", "aria-sort": "none", title: c.title || null },
+  const heads = columns.map((c) => h("th", { scope: "col", class: `${c.num ? "num" : ""}${c.sep ? " sep" : ""}`, "aria-sort": "none", title: c.title || null },
     h("button", { type: "button", class: "sort", onclick: () => sortBy(c.key) }, c.label)));
   function val(row, c) {
     return typeof c.value === "function" ? c.value(row) : row[c.key];
@@ -210,9 +226,14 @@ export function dataTable(columns, rows, { caption, onRow, rowLabel, className =
       const tr = h("tr", {}, columns.map((c, i) => {
         const v = val(r, c);
         const content = c.format ? c.format(v, r) : (typeof v === "number" ? fmt(v) : v ?? "–");
-        return i === 0 ? h("th", { scope: "row", class: c.num ? "num" : "" }, content)
-          : h("td", { class: c.num ? "num" : "" }, content);
+        const cls = `${c.num ? "num" : ""}${c.sep ? " sep" : ""}${c.cellClass ? ` ${c.cellClass(v, r) || ""}` : ""}`.trim();
+        return i === 0 ? h("th", { scope: "row", class: cls }, content)
+          : h("td", { class: cls }, content);
       }));
+      if (rowClass) {
+        const rc = rowClass(r);
+        if (rc) tr.className = rc;
+      }
       if (onRow) {
         tr.classList.add("clickable");
         tr.tabIndex = 0;
@@ -230,8 +251,25 @@ export function dataTable(columns, rows, { caption, onRow, rowLabel, className =
     fill();
   }
   fill();
-  return h("div", { class: `table-wrap ${className}` }, h("table", { class: "data" },
-    caption ? h("caption", {}, caption) : null, h("thead", {}, h("tr", {}, heads)), tbody));
+  const groupRow = groups ? h("tr", { class: "group-head" }, groups.map((g, i) => h("th", { scope: "colgroup", colspan: String(g.span), class: i ? "sep" : "" }, g.label || ""))) : null;
+  const table = h("table", { class: "data" }, caption ? h("caption", {}, caption) : null, h("thead", {}, groupRow, h("tr", {}, heads)), tbody);
+  const wrap = h("div", { class: `table-wrap ${className}` }, table);
+  return withScrollCue(wrap);
+}
+
+/** A box that may scroll sideways: while its content is wider, a shadow at the edge that
+ * still has columns and a line "scroll sideways for more columns" under it. */
+export function withScrollCue(wrap) {
+  const cue = h("p", { class: "scroll-cue", hidden: true, "aria-hidden": "true" }, "Scroll sideways for more columns →");
+  const box = h("div", { class: "scroll-box" }, wrap, cue);
+  const check = () => {
+    const over = wrap.scrollWidth > wrap.clientWidth + 1;
+    wrap.classList.toggle("scroll-x", over);
+    cue.hidden = !over;
+  };
+  if (window.ResizeObserver) new ResizeObserver(check).observe(wrap);
+  requestAnimationFrame(check);
+  return box;
 }
 
 /** Rows → CSV text (RFC 4180 quoting). */

@@ -3,6 +3,7 @@
 // the linear estimate does not hold for (422: flange contact, a transient excitation …), an FE
 // model not built yet (409) or a busy service (503) is a note in the panel, never a form error.
 
+import { loadPaperPoints, pointCatalogue, pointTag } from "./points.js";
 import { request } from "../api.js";
 import { h, setChildren, fmt, fixed, notice } from "./dom.js";
 
@@ -37,7 +38,7 @@ function table(comfort) {
     h("thead", {}, h("tr", {}, h("th", { scope: "col" }, "Point"),
       cols.map((c) => h("th", { scope: "col", class: "num" }, c.label, h("span", { class: "unit-head" }, ` (${c.unit})`))))),
     h("tbody", {}, (comfort.points || []).map((p) => h("tr", { dataset: { point: p.name } },
-      h("th", { scope: "row" }, p.name), cols.map((c) => h("td", { class: "num" }, c.value(p))))))));
+      h("th", { scope: "row" }, pointTag(p.name, pointCatalogue())), cols.map((c) => h("td", { class: "num" }, c.value(p))))))));
 }
 
 /** The flags (where the estimate may not hold), collapsed when there are several. */
@@ -75,6 +76,7 @@ function withoutRandom(sc) {
  * @returns {{el: HTMLElement, schedule: () => void, now: () => Promise<void>}}
  */
 export function estimatePanel(getScenario, signal, invalidFields = () => 0) {
+  loadPaperPoints().catch(() => {}); // descriptions of the points for the table (tooltips)
   const status = h("p", { class: "small muted estimate-status", id: "estimate-status", "aria-live": "polite" });
   const body = h("div", { class: "estimate-body" });
   const el = h("details", { class: "card estimate-panel", id: "estimate-panel", open: true, dataset: { state: "idle" } },

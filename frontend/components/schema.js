@@ -103,3 +103,51 @@ export function labelOf(node, key) {
 export function titleOf(node, key) {
   return labelOf(node, key)[0];
 }
+
+/** A number as the help text writes it: 8e10 rather than 80000000000. */
+function num(v) {
+  if (typeof v !== "number") return String(v);
+  const a = Math.abs(v);
+  return a !== 0 && (a >= 1e6 || a < 1e-3) ? v.toExponential().replace("e+", "e") : String(v);
+}
+
+/** The allowed values of a scalar node in words: "0 < value ≤ 200 km/h", "one of a, b". */
+export function rangeText(info) {
+  const unit = unitOf(info);
+  const u = unit && unit !== "-" ? ` ${unit}` : "";
+  if (Array.isArray(info.enum)) return `one of ${info.enum.join(", ")}`;
+  if (info.type === "string") return info.maxLength ? `text of up to ${info.maxLength} characters` : "text";
+  if (info.type === "boolean") return "on or off";
+  if (info.type !== "number" && info.type !== "integer") return "";
+  const lo = info.exclusiveMinimum ?? info.minimum;
+  const hi = info.exclusiveMaximum ?? info.maximum;
+  const loOp = info.exclusiveMinimum !== undefined ? "<" : "≤";
+  const hiOp = info.exclusiveMaximum !== undefined ? "<" : "≤";
+  const what = info.type === "integer" ? "a whole number" : "value";
+  if (lo !== undefined && hi !== undefined) return `${num(lo)} ${loOp} ${what} ${hiOp} ${num(hi)}${u}`;
+  if (lo !== undefined) return `${what} ${loOp === "<" ? ">" : "≥"} ${num(lo)}${u}`;
+  if (hi !== undefined) return `${what} ${hiOp} ${num(hi)}${u}`;
+  return unit ? `in ${unit === "-" ? "– (dimensionless)" : unit}` : "";
+}
+
+/** The default of a node in words, or "". */
+function defaultText(info) {
+  if (info.default === undefined) return "";
+  if (info.default === null) return "default: none";
+  if (typeof info.default === "boolean") return `default: ${info.default ? "on" : "off"}`;
+  if (typeof info.default === "object" || info.default === "") return "";
+  if (typeof info.default === "string") return `default “${info.default}”`;
+  const unit = unitOf(info);
+  return `default ${num(info.default)}${unit && unit !== "-" && typeof info.default === "number" ? ` ${unit}` : ""}`;
+}
+
+/**
+ * The complete help of a scalar field: its description (when the label is not already it), the
+ * allowed values with the unit, the default, and whether it may be left empty.
+ */
+export function helpText(info, desc) {
+  const parts = [rangeText(info), defaultText(info), info.nullable ? "may be left empty (none)" : ""].filter(Boolean);
+  const tail = parts.length ? `${parts.join("; ")}.` : "";
+  const head = desc ? `${desc.replace(/\.?\s*$/, ".")}` : "";
+  return [head, tail].filter(Boolean).join(" ") || null;
+}

@@ -4,7 +4,7 @@
 // server's 422 items in servererrors.js, the problem summary in formsummary.js.
 
 import { h } from "./dom.js";
-import { clone, resolve, scalarInfo, defaultsOf, freshVariant, variantOf, labelOf, titleOf, plainDescription, unitOf } from "./schema.js";
+import { clone, resolve, scalarInfo, defaultsOf, freshVariant, variantOf, labelOf, titleOf, plainDescription, unitOf, helpText } from "./schema.js";
 import { scalarInput, unitBadge, readScalar, isLongText } from "./scalarinput.js";
 import { problems, enumSetProblems, runLengthProblem, RUN_LENGTH_KEYS } from "./validate.js";
 import { placeServerErrors, markBlock, blockAt } from "./servererrors.js";
@@ -64,6 +64,15 @@ export class SchemaForm {
 
   set(path, val) {
     setAt(this.value, path, val);
+  }
+
+  /** Set one scalar field's value and show it in its input (no re-render, no change event). */
+  setField(path, v) {
+    this.set(path, v);
+    const key = pathKey(path);
+    const f = this.fields.get(key);
+    if (f?.kind === "scalar" && f.input && f.input.type !== "checkbox") f.input.value = v ?? "";
+    this.validateField(key);
   }
 
   setValue(value) {
@@ -180,8 +189,10 @@ export class SchemaForm {
       this.restructured();
     } }, Object.keys(r.discriminator.mapping).map((k) => h("option", { value: k, selected: k === kind }, k)));
     const desc = plainDescription(schema);
+    const help = `${desc ? `${desc.split("\n")[0].replace(/\.?\s*$/, ".")} ` : ""}One of ${Object.keys(r.discriminator.mapping).join(", ")}; another kind starts from its defaults.`;
+    sel.setAttribute("aria-describedby", `${id}-help`);
     return h("div", { class: "field field-wide" }, h("label", { for: id }, "Kind"), sel,
-      desc ? h("p", { class: "help" }, desc.split("\n")[0]) : null);
+      h("p", { class: "help", id: `${id}-help` }, help));
   }
 
   /** A list of items with Remove and Add buttons (a list of enum strings is a set of checkboxes). */
@@ -233,16 +244,18 @@ export class SchemaForm {
     const id = fieldId(path);
     const [legend, desc] = labelOf(r, key);
     const errEl = h("div", { class: "field-error", id: `${id}-err` });
+    const helpId = `${id}-help`;
+    const help = `${desc ? `${desc.replace(/\.?\s*$/, ".")} ` : ""}Any of ${items.enum.join(", ")}.`;
     const boxes = items.enum.map((v) => h("label", { class: "check" },
-      h("input", { type: "checkbox", value: v, checked: cur.has(v), onchange: () => {
+      h("input", { type: "checkbox", value: v, checked: cur.has(v), "aria-describedby": `${helpId} ${errEl.id}`, onchange: () => {
         this.set(path, boxes.map((b) => b.querySelector("input")).filter((i) => i.checked).map((i) => i.value));
         this.clearServer(k);
         this.validateField(k);
         this.updateCounts();
         this.changed();
       } }), ` ${v.replace(/_/g, " ")}`));
-    const wrap = h("fieldset", { class: "field field-wide enumset", dataset: { path: k }, "aria-describedby": `${id}-err` },
-      h("legend", {}, legend), desc ? h("p", { class: "help" }, desc) : null, h("div", { class: "checks" }, boxes), errEl);
+    const wrap = h("fieldset", { class: "field field-wide enumset", dataset: { path: k }, "aria-describedby": `${helpId} ${errEl.id}` },
+      h("legend", {}, legend), h("p", { class: "help", id: helpId }, help), h("div", { class: "checks" }, boxes), errEl);
     this.fields.set(k, { wrap, input: boxes[0]?.querySelector("input"), node: r, errEl, path, kind: "enumset" });
     return wrap;
   }
@@ -260,7 +273,8 @@ export class SchemaForm {
 
   scalarField(info, path, key, required) {
     const id = fieldId(path);
-    const [label, desc] = labelOf(info, key);
+    const [label, short] = labelOf(info, key);
+    const desc = helpText(info, short);
     const helpId = `${id}-help`;
     const errEl = h("div", { class: "field-error", id: `${id}-err` });
     const input = scalarInput(info, id, this.get(path), () => this.scalarChanged(path, key));
@@ -293,8 +307,12 @@ export class SchemaForm {
       }
       this.changed();
     } }, JSON.stringify(this.get(path) ?? null, null, 1));
+    const [, jsonHelp] = labelOf(r, key);
+    const unit = unitOf(r);
+    const help = `${jsonHelp || plainDescription(r) || "A JSON value."}${unit ? ` Values in ${unit}.` : ""} Written as JSON, e.g. [[0, 0.001], [1, 0.002]].`;
+    input.setAttribute("aria-describedby", `${id}-help ${errEl.id}`);
     const wrap = h("div", { class: "field field-wide", dataset: { path: pathKey(path) } },
-      h("label", { for: id }, `${titleOf(r, key)} (JSON)`), input, errEl);
+      h("label", { for: id }, `${titleOf(r, key)} (JSON)`), input, h("p", { class: "help", id: `${id}-help` }, help), errEl);
     this.fields.set(pathKey(path), { wrap, input, node: r, errEl, path, kind: "json" });
     return wrap;
   }

@@ -10,9 +10,12 @@ import { plotCard, baseLayout, loadPlotly, COLORS } from "../components/plot.js"
 import { replaceQuery } from "../components/nav.js";
 import { placeServerErrors } from "../components/servererrors.js";
 import { numericPaths } from "./newstudy.js";
+import { loadPaperPoints, pointCatalogue, pointText } from "../components/points.js";
+
+/** The paper's points (GET /schemas/points), loaded with the view. */
+let POINTS = [];
 
 const MAX_VALUES = 100;
-const POINTS = ["PR", "PFB", "PC", "PRB", "PLA", "PRA"];
 const SUGGESTED = ["vehicle.secondary.cz", "vehicle.secondary.kz", "vehicle.primary.kz", "speed_kmh"];
 /** Indices: key in the answer's series (or nmv), label, unit. */
 const INDICES = [
@@ -115,8 +118,9 @@ export default async function render(main, ctx) {
   let presets;
   let paths;
   try {
-    const [p, schema] = await Promise.all([cached("presets", api.presets), cached("schema", api.scenarioSchema)]);
+    const [p, schema, paper] = await Promise.all([cached("presets", api.presets), cached("schema", api.scenarioSchema), loadPaperPoints()]);
     presets = p;
+    POINTS = paper.map((x) => x.name);
     paths = numericPaths(schema);
   } catch (err) {
     setChildren(main, h("h1", {}, "Estimate"), errorBox(err, "The form could not be prepared"));
@@ -135,7 +139,7 @@ export default async function render(main, ctx) {
     to: field("to", "To", text(q.to, { inputmode: "decimal" }), unitBadge()),
     count: field("count", "Number of values", text(q.count, { inputmode: "numeric" }), null, `At most ${MAX_VALUES}, evenly spaced from “from” to “to”.`),
   };
-  const pointSel = select([...new Set([...POINTS, q.point])].map((p) => [p, p]), q.point);
+  const pointSel = select([...new Set([...POINTS, q.point])].map((p) => [p, pointText(p, pointCatalogue())]), q.point);
   const dirSel = select([["z", "vertical (z)"], ["y", "lateral (y)"]], q.direction);
   const indexSel = select(INDICES.map((i) => [i.key, `${i.label} (${i.unit})`]), q.index);
   const formMsg = h("div", { id: "est-form-msg", "aria-live": "polite" });

@@ -15,12 +15,28 @@ import { h, setChildren, notice, fmt, fixed, prettyUnit } from "../components/do
 import { plotCard, baseLayout, loadPlotly } from "../components/plot.js";
 import { simpleSelect } from "../components/channels.js";
 import { replaceQuery } from "../components/nav.js";
+import { waitNote } from "../components/waiting.js";
 import { sperlingOf, awOf } from "./job.js";
 
 const KIND_LABEL = { carbody: "car body", frame: "bogie frame" };
 const BODY_FIELD = { carbody: "carbody", frame: "frames" }; // scenario.bodies.<field>
 const MODEL_PARAMS = ["element_size_m", "cutoff_hz", "reduction"];
 const MAX_MODES = 12;
+
+/** Measured wall time (s) of a first build of an FE model (modal reduction, 40 Hz cut-off, 12
+ * mode shapes), `flexride fe export` on the 2-core development VM (Debian, Python 3.11) under a
+ * load of about 7, Dec 2026: car body 184 s with 0.2 m elements (51 s CPU) and 87 s with 0.5 m
+ * (18 s CPU) – a fixed part and a part growing with the number of shell elements, (0.2 m /
+ * size)², fitted through both; bogie frame 23 s (5 s CPU). The dashboard's first 0.2 m build
+ * took 170 s there. */
+const FE_BUILD_S = { carbody: { fixed: 68, per: 116 }, frame: { fixed: 23, per: 0 } };
+
+/** The estimated wall time (s) of a first build of `kind` with elements of `size` m. */
+export function buildEstimate(kind, size) {
+  const m = FE_BUILD_S[kind === "frame" ? "frame" : "carbody"];
+  const s = Number(size) || 0.2;
+  return m.fixed + m.per * (0.2 / s) ** 2;
+}
 
 /** The floor-grid points F<i>_<j> of a channel list's `points` as a grid: sorted xs and ys and
  * the point name at (x, y). */
@@ -294,8 +310,13 @@ export default async function render(main, ctx) {
       // queued: the build job waits for a free worker (simulations and other builds share them)
       const what = b.status === "queued" ? `Waiting for a free worker to build the FE model of the ${label}` : `Building the FE model of the ${label}`;
       card.loading(`${what} on the server…`);
-      setChildren(meshMsg, notice("info", "Building the FE model – first time only",
-        h("p", { id: "fe-building" }, `${what} (${fmt(b.elapsed_s ?? 0, 2)} s so far; about a minute for the 0.2 m car body). The model is kept, so this happens once per parameter set. Checking again in ${wait} s.`)));
+      const est = buildEstimate(state.kind, b.parameters?.element_size_m ?? params.element_size_m);
+      setChildren(meshMsg, waitNote({
+        id: "fe-building", title: "Building the FE model – first time only",
+        text: `${what}: shell mesh, eigenmodes and the reduction to ${MAX_MODES} mode shapes. The model is kept, so this happens once per parameter set; checking again in ${wait} s`,
+        elapsed_s: b.elapsed_s ?? 0, estimate_s: b.status === "queued" ? null : est, progress: b.status === "queued" ? null : b.progress ?? null,
+        label: "FE model build",
+      }));
       await sleep(wait * 1000, ctx.signal);
       if (seq !== loadSeq || ctx.signal.aborted) return null;
     }
@@ -418,7 +439,7 @@ export default async function render(main, ctx) {
       await mapCard.draw([
         { type: "heatmap", x: grid.xs, y: grid.ys, z, colorscale: "YlOrRd", reversescale: true, zsmooth: grid.ys.length > 1 ? "best" : false,
           colorbar: { title: { text: prettyUnit(short) } }, hovertemplate: `x = %{x:.2f} m, y = %{y:.2f} m<br>${label}: %{z:.3f}<extra></extra>` },
-        { type: "scatter", mode: "markers", x: named.map((p) => p.x), y: named.map((p) => p.y), text: named.map((p) => `${p.name} ${fixed(value(p.name), 2)}`),
+        { type: "scatter", mode: "markers", x: named.map((p) => p.x), y: named.map((p) => p.y), text: named.map((p) => `${p.description} (x ${fmt(p.x, 3)} m, y ${fmt(p.y, 3)} m)<br>${label}: ${fixed(value(p.name), 2)}`),
           marker: { color: "#0b4f8a", size: 9, symbol: "x" }, name: "paper points", hovertemplate: "%{text}<extra></extra>" },
       ], baseLayout("Position along the car body x (m)", "Lateral position y (m)", {
         yaxis: { scaleanchor: "x", scaleratio: 1 }, showlegend: false,

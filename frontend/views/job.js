@@ -10,6 +10,9 @@ import {
 import { plotCard, baseLayout, COLORS } from "../components/plot.js";
 import { seriesPlot, spectrumPlot } from "../components/series.js";
 import { channelMultiSelect, channelSelect, simpleSelect, directionOptions, accPoints, headlinePoint } from "../components/channels.js";
+import { loadPaperPoints, pointCatalogue, pointColor, pointTag, pointText, pointsCard } from "../components/points.js";
+import { solverState, compilingText, waitNote } from "../components/waiting.js";
+import { safetyPanel, safetyHeadline, governing } from "../components/safety.js";
 import { confirmButton } from "./jobs.js";
 import { go, replaceQuery } from "../components/nav.js";
 
@@ -38,10 +41,29 @@ function metric(label, value, sub, extra) {
   return h("div", { class: "metric" }, h("div", { class: "label" }, label), h("div", { class: "value" }, value, extra || null), sub ? h("div", { class: "sub" }, sub) : null);
 }
 
-function jobInfo(job) {
+/** "flexible (modal reduction, 40 Hz, 0.2 m elements)" or "rigid" of a scenario's body model. */
+function bodyModelText(b) {
+  if (!b) return "–";
+  if (b.model !== "flexible") return "rigid";
+  return `flexible (${b.reduction} reduction, cut-off ${fmt(b.cutoff_hz)} Hz, ${fmt(b.element_size_m)} m elements)`;
+}
+
+/** The contact model of a scenario in one line: geometry, profiles, normal contact, friction. */
+function contactText(c) {
+  if (!c) return "–";
+  const geometry = c.geometry === "profiles"
+    ? `real profiles ${c.wheel?.builtin || c.wheel?.upload || "wheel"} on ${c.rail?.builtin || c.rail?.upload || "rail"} at ${c.inclination}`
+    : `conical tread, conicity ${fmt(c.conicity)}`;
+  return `${geometry}; ${c.normal === "hertz" ? "Hertz" : c.normal} normal contact, Kalker creep with Shen–Hedrick–Elkins saturation, μ = ${fmt(c.friction)}`;
+}
+
+function jobInfo(job, sc) {
   const rows = [
     ["Status", badge(job.status)],
-    ["Preset", job.preset || "–"],
+    ["Preset", job.preset || (sc ? "none (a scenario of its own)" : "–")],
+    ["Car body", bodyModelText(sc?.bodies?.carbody)],
+    ["Bogie frames", bodyModelText(sc?.bodies?.frames)],
+    ["Contact model", contactText(sc?.contact)],
     ["Speed", job.speed_kmh !== null ? `${fmt(job.speed_kmh)} km/h` : "–"],
     ["Simulated time", job.duration_s !== null ? `${fmt(job.duration_s)} s` : "–"],
     ["Created", when(job.created_at)],
@@ -57,6 +79,37 @@ function jobInfo(job) {
   return h("dl", { class: "kv" }, rows.flatMap(([k, v]) => [h("dt", {}, k), h("dd", {}, v)]));
 }
 
+/** The comfort indices per point: vertical and lateral side by side under one heading each,
+ * short column labels with their units, so the table fits a 1280 px screen. */
+export function comfortTable(pts, catalogue) {
+  const d = (ps, dir) => ps?.directions?.[dir];
+  const rows = Object.entries(pts).map(([p, ps]) => {
+    const z = d(ps, "z");
+    const y = d(ps, "y");
+    return {
+      point: p, wz: sperlingOf(z), wy: sperlingOf(y), awz: awOf(z).value, awy: awOf(y).value,
+      pz: z?.peaks?.max_abs ?? null, py: y?.peaks?.max_abs ?? null, rz: z?.peaks?.rms ?? null, ry: y?.peaks?.rms ?? null,
+      fz: z?.dominant_peaks?.[0]?.frequency ?? null, fy: y?.dominant_peaks?.[0]?.frequency ?? null, nmv: ps.mean_comfort?.value ?? null,
+    };
+  });
+  const spCell = (v) => (v.value === null ? "–" : h("span", { class: "nowrap" }, fixed(v.value), v.fallback ? h("sup", { title: "filter form: the record is shorter than the 5 s the spectral form needs" }, "f") : null, gradeChip(v.grade)));
+  const dirCols = (k, sep) => [
+    { key: `w${k}`, label: "W (–)", title: "Sperling index (GB 5599 grade)", num: true, sep, value: (r) => r[`w${k}`].value, format: (v, r) => spCell(r[`w${k}`]) },
+    { key: `aw${k}`, label: "a_w (m/s²)", title: `ISO 2631 weighted rms (${k === "z" ? "Wb" : "Wd"})`, num: true },
+    { key: `p${k}`, label: "peak (m/s²)", title: "largest |acceleration|", num: true },
+    { key: `r${k}`, label: "rms (m/s²)", title: "rms of the acceleration", num: true },
+    { key: `f${k}`, label: "f (Hz)", title: "frequency of the dominant spectral peak", num: true },
+  ];
+  return dataTable([
+    { key: "point", label: "Point", format: (v) => pointTag(v, catalogue) },
+    ...dirCols("z", true), ...dirCols("y", true),
+    { key: "nmv", label: "N_MV (–)", title: "EN 12299 mean comfort, standard method", num: true, sep: true, format: (v) => fixed(v) },
+  ], rows, {
+    caption: "Comfort indices per point (W: Sperling index with its GB 5599 grade; a_w: ISO 2631 weighted rms, Wb vertical, Wd lateral; f: dominant frequency)",
+    className: "comfort-table", groups: [{ label: "", span: 1 }, { label: "Vertical (z)", span: 5 }, { label: "Lateral (y)", span: 5 }, { label: "", span: 1 }],
+  });
+}
+
 export default async function render(main, ctx) {
   const id = ctx.params.id;
   ctx.title(`Job ${id.slice(0, 8)}`);
@@ -65,6 +118,19 @@ export default async function render(main, ctx) {
   main.append(head, body);
   let timer = null;
   let shownFinal = false;
+  let solverAsked = 0;
+  let solverLast = { compiling: false, estimate_s: null };
+  let scenario = null;
+  cached(`scenario:${id}`, () => api.jobScenario(id)).then((sc) => { scenario = sc; }).catch(() => {});
+
+  /** The solver's state, asked at most every 3 s while the job waits or runs. */
+  async function solverNow() {
+    if (Date.now() - solverAsked > 3000) {
+      solverAsked = Date.now();
+      solverLast = await solverState(ctx.signal);
+    }
+    return solverLast;
+  }
 
   async function poll() {
     let job;
@@ -85,10 +151,16 @@ export default async function render(main, ctx) {
     ctx.title(job.name);
     renderHead(job);
     if (ACTIVE.has(job.status)) {
+      const solver = await solverNow();
+      if (ctx.signal.aborted) return;
+      const queuedS = job.status === "queued" && job.created_at ? (Date.now() - new Date(job.created_at).getTime()) / 1000 : null;
       setChildren(body, h("section", { class: "card", "aria-labelledby": "progress-title" },
         h("h2", { id: "progress-title" }, job.status === "queued" ? "Waiting for a worker" : "Running"),
         progressBar(job.progress, "Job progress", job.status),
-        h("p", { class: "muted", id: "job-message" }, job.message || ""),
+        h("p", { class: "muted", id: "job-message" }, job.message || (job.status === "queued" ? "queued: every worker is busy" : "")),
+        solver.compiling ? waitNote({ id: "solver-compiling", title: "The service is compiling the solver – first run only",
+          text: `The workers are ${compilingText(solver)}: the numerical kernels are compiled once after installation and kept on disk, so later jobs start at once. This job starts when a worker is ready`,
+          elapsed_s: queuedS ?? undefined, estimate_s: solver.estimate_s, remaining: true }) : null,
         h("p", { class: "small muted" }, "This page follows the job and shows the results when it has finished.")));
       timer = setTimeout(poll, 1000);
       return;
@@ -132,10 +204,18 @@ export default async function render(main, ctx) {
         }
       }),
     ];
+    const wasOpen = !!head.querySelector("#job-details")?.open;
     setChildren(head,
       h("div", { class: "crumbs" }, h("a", { href: "#/" }, "Jobs"), job.study_id ? [" › ", h("a", { href: `#/studies/${job.study_id}` }, "study")] : null, " › ", id.slice(0, 8)),
       h("div", { class: "page-head" }, h("h1", {}, job.name, " ", badge(job.status)), h("div", { class: "actions" }, actions)),
-      h("details", { class: "card small" }, h("summary", {}, "Job details"), jobInfo(job)));
+      h("details", { class: "card small", id: "job-details", open: wasOpen }, h("summary", {}, "Job details"), jobInfo(job, scenario)));
+    if (!scenario) {
+      cached(`scenario:${id}`, () => api.jobScenario(id)).then((sc) => {
+        scenario = sc;
+        const det = head.querySelector("#job-details");
+        if (det && !ctx.signal.aborted) det.replaceChildren(h("summary", {}, "Job details"), jobInfo(job, sc));
+      }).catch(() => {});
+    }
   }
 
   async function renderResults(job) {
@@ -146,6 +226,7 @@ export default async function render(main, ctx) {
       [summary, chans] = await Promise.all([
         cached(`summary:${id}`, () => api.summary(id)).catch((e) => ({ error: e })),
         cached(`channels:${id}`, () => api.channels(id)),
+        loadPaperPoints().catch(() => []),
       ]);
     } catch (err) {
       setChildren(body, errorBox(err, "Could not load the results"));
@@ -158,6 +239,8 @@ export default async function render(main, ctx) {
     const pointInfo = accPoints(channels, chans.points);
     const points = pointInfo.map((p) => p.name);
     const floorGrid = pointInfo.some((p) => p.kind === "grid");
+    const catalogue = pointCatalogue(chans.points);
+    const pointOption = (p) => [p, pointText(p, catalogue)];
     const t = tabs([
       { id: "summary", label: "Summary" },
       { id: "time", label: "Time histories" },
@@ -167,11 +250,20 @@ export default async function render(main, ctx) {
       { id: "correlation", label: "Correlation" },
       { id: "forces", label: "Forces & safety" },
     ], (tab, panel) => {
-      const r = { summary: () => summaryPanel(panel, s, summary?.error, chans, floorGrid), time: () => timePanel(panel), spectra: () => spectraPanel(panel), spectrogram: () => spectrogramPanel(panel), sperling: () => sperlingPanel(panel), correlation: () => correlationPanel(panel, s), forces: () => forcesPanel(panel, s) }[tab];
+      const r = { summary: () => summaryPanel(panel, s, summary?.error, chans, floorGrid, catalogue), time: () => timePanel(panel), spectra: () => spectraPanel(panel), spectrogram: () => spectrogramPanel(panel), sperling: () => sperlingPanel(panel), correlation: () => correlationPanel(panel, s), forces: () => forcesPanel(panel, s) }[tab];
       r();
     }, { label: "Results", initial: ctx.query.tab || "summary" });
     t.onSelect = (tab) => replaceQuery({ tab });
     setChildren(body, t.el);
+
+    /** Series sources of channels: a car-body point in its own colour (dashed: lateral). */
+    function sourcesOf(names) {
+      return names.map((c, i) => {
+        const m = c.match(/^carbody\.([^.]+)\.acc\.([xyz])$/);
+        return m ? { job: id, channel: c, color: pointColor(m[1]), dash: { z: "solid", y: "dash", x: "dot" }[m[2]] }
+          : { job: id, channel: c, color: COLORS[(i + 6) % COLORS.length] };
+      });
+    }
 
     // ---- panels ----
     function timePanel(panel) {
@@ -179,12 +271,12 @@ export default async function render(main, ctx) {
       const plot = seriesPlot({ title: "Time histories", id: "plot-time", description: "Time histories of the chosen channels", height: 420 });
       let chosen = (ctx.query.ch ? ctx.query.ch.split(",").filter(has) : def);
       panel.append(h("div", { class: "three" },
-        h("div", { class: "controls" }, channelMultiSelect({ id: "time-channels", label: "Channels", channels, selected: chosen, max: 8, size: 16, onChange: (names) => {
+        h("div", { class: "controls" }, channelMultiSelect({ id: "time-channels", label: "Channels", channels, selected: chosen, max: 8, size: 16, describe: (c) => pointText(c.point, catalogue), onChange: (names) => {
           chosen = names;
-          plot.set(chosen.map((c) => ({ job: id, channel: c })));
+          plot.set(sourcesOf(chosen));
         } })),
         plot.el));
-      plot.set(chosen.map((c) => ({ job: id, channel: c })));
+      plot.set(sourcesOf(chosen));
     }
 
     function spectraPanel(panel) {
@@ -193,7 +285,7 @@ export default async function render(main, ctx) {
       const amp = spectrumPlot({ title: "Amplitude spectrum", id: "plot-spectrum", kind: "amplitude", description: "Amplitude spectrum with dominant peaks" });
       const psd = spectrumPlot({ title: "Power spectral density", id: "plot-psd", kind: "psd", description: "Welch PSD with dominant peaks" });
       const draw = () => {
-        const src = chosen.map((c) => ({ job: id, channel: c }));
+        const src = sourcesOf(chosen);
         amp.set(src, p);
         psd.set(src, p);
       };
@@ -209,7 +301,7 @@ export default async function render(main, ctx) {
       };
       panel.append(h("div", { class: "three" },
         h("div", { class: "controls stack" },
-          channelMultiSelect({ id: "spec-channels", label: "Channels", channels, selected: chosen, max: 6, size: 12, filter: (c) => c.quantity !== "rot", onChange: (n) => { chosen = n; draw(); } }),
+          channelMultiSelect({ id: "spec-channels", label: "Channels", channels, selected: chosen, max: 6, size: 12, filter: (c) => c.quantity !== "rot", describe: (c) => pointText(c.point, catalogue), onChange: (n) => { chosen = n; draw(); } }),
           num("fmax", "Up to", "Hz", { min: "1", max: "500", step: "1" }),
           num("segment_s", "PSD segment", "s", { min: "0.5", max: "60", step: "0.5" }),
           h("label", { class: "check" }, h("input", { type: "checkbox", checked: true, onchange: (e) => { p.dynamic = e.target.checked; draw(); } }), "Remove the quasi-static part (< 0.3 Hz)"),
@@ -249,7 +341,7 @@ export default async function render(main, ctx) {
         return h("label", { for: `sg-${key}` }, label, inp);
       };
       card.setControls(h("div", { class: "controls" },
-        channelSelect({ id: "sg-channel", label: "Channel", channels, selected: p.channel, filter: (c) => c.quantity === "acc" || c.quantity === "force", onChange: (v) => { p.channel = v; draw(); } }),
+        channelSelect({ id: "sg-channel", label: "Channel", channels, selected: p.channel, filter: (c) => c.quantity === "acc" || c.quantity === "force", describe: (c) => pointText(c.point, catalogue), onChange: (v) => { p.channel = v; draw(); } }),
         num("window_s", "Window (s)", { min: "0.1", max: "30", step: "0.1" }),
         num("overlap", "Overlap (0–0.95)", { min: "0", max: "0.95", step: "0.05" }),
         num("fmax", "Up to (Hz)", { min: "1", max: "500", step: "1" }),
@@ -285,7 +377,7 @@ export default async function render(main, ctx) {
           card.error(err, "No Sperling breakdown");
         }
       };
-      card.setControls(h("div", { class: "controls" }, simpleSelect("sp-point", "Point", points.map((p) => [p, p]), point, (v) => { point = v; draw(); })));
+      card.setControls(h("div", { class: "controls" }, simpleSelect("sp-point", "Point", points.filter((x) => catalogue.get(x)?.kind !== "grid").map(pointOption), point, (v) => { point = v; draw(); })));
       panel.append(card.el);
       draw();
     }
@@ -326,12 +418,12 @@ export default async function render(main, ctx) {
             annotations: [{ x: c.lag_at_max_s, y: 1, yref: "paper", text: `max at τ = ${fmt(lag, 3)} s`, showarrow: false, yanchor: "bottom", font: { color: COLORS[1] }, bgcolor: "rgba(255,255,255,.85)" }],
             yaxis: { range: [-1.05, 1.15] },
           }));
-          card.setNote(`Reference a = ${ref}, b = ${other}, ${DIRECTION_NAMES[dir]}. Maximum ${fmt(c.normalised_at_max, 3)} at τ = ${fmt(lag, 4)} s (${lag > 0 ? `${other} lags ${ref}` : lag < 0 ? `${other} leads ${ref}` : "no delay"}). ${res.convention}.`);
+          card.setNote(`Reference a = ${pointText(ref, catalogue)}, b = ${pointText(other, catalogue)}, ${DIRECTION_NAMES[dir]}. Maximum ${fmt(c.normalised_at_max, 3)} at τ = ${fmt(lag, 4)} s (${lag > 0 ? `${other} lags ${ref}` : lag < 0 ? `${other} leads ${ref}` : "no delay"}). ${res.convention}.`);
         } catch (err) {
           card.error(err);
         }
       };
-      const pts = pointInfo.filter((p) => p.kind !== "grid").map((p) => [p.name, p.name]);
+      const pts = pointInfo.filter((p) => p.kind !== "grid").map((p) => pointOption(p.name));
       const lagIn = h("input", { id: "corr-lag", type: "number", min: "0.1", max: "30", step: "0.1", value: "3", style: { width: "6em" }, onchange: () => { const v = Number(lagIn.value); if (v > 0) { maxLag = v; draw(); } } });
       card.setControls(h("div", { class: "controls" },
         simpleSelect("corr-ref", "Reference point (a)", pts, ref, (v) => { ref = v; draw(); }),
@@ -342,51 +434,46 @@ export default async function render(main, ctx) {
       draw();
       if (sum?.correlations?.length) {
         panel.append(h("section", { class: "card" }, dataTable([
-          { key: "pair", label: "Pair (a → b)" },
+          { key: "pair", label: "Pair (a → b)", format: (v, r) => h("span", {}, pointTag(r.a, catalogue), " → ", pointTag(r.b, catalogue)) },
           { key: "direction", label: "Direction", format: (v) => DIRECTION_NAMES[v] || v },
           { key: "lag", label: "Lag of the maximum (s)", num: true, format: (v) => fmt(v, 4) },
           { key: "value", label: "Normalised maximum", num: true, format: (v) => fmt(v, 3) },
-        ], sum.correlations.map((c) => ({ pair: `${c.reference} → ${c.other}`, direction: c.direction, lag: c.result?.lag_at_max_interpolated ?? c.result?.lag_at_max, value: c.result?.normalised_at_max })),
+        ], sum.correlations.map((c) => ({ pair: `${c.reference} → ${c.other}`, a: c.reference, b: c.other, direction: c.direction, lag: c.result?.lag_at_max_interpolated ?? c.result?.lag_at_max, value: c.result?.normalised_at_max })),
         { caption: "Cross-correlations of the summary (reference point against every other)" })));
       }
     }
 
     function forcesPanel(panel, sum) {
       const wheelsets = [...new Set(channels.filter((c) => c.quantity === "force").map((c) => c.body))].sort();
-      let ws = wheelsets[0];
+      const gov = governing(sum?.safety?.indices)?.location?.split(".")[0];
+      let ws = wheelsets.includes(gov) ? gov : wheelsets[0];
       let dir = "z";
+      const FORCE = { z: "vertical wheel force Q", y: "lateral wheel force Y", n: "normal force N" };
       const plot = seriesPlot({ title: "Wheel–rail forces", id: "plot-forces", description: "Wheel–rail contact forces of the chosen wheelset", height: 380 });
       const draw = () => plot.set(["left", "right"].map((side) => ({ side, name: channelName({ body: ws, point: side, quantity: "force", direction: dir }) })).filter((c) => has(c.name))
-        .map((c, i) => ({ job: id, channel: c.name, label: `${ws} ${c.side} wheel, ${dir === "z" ? "vertical Q" : dir === "y" ? "lateral Y" : "normal N"}`, scale: 1e-3, unit: "kN", color: COLORS[i] })));
+        .map((c, i) => ({ job: id, channel: c.name, label: `${ws.replace("wheelset", "wheelset ")} ${c.side} wheel, ${FORCE[dir]}`, scale: 1e-3, unit: "kN", color: COLORS[i] })));
+      panel.append(safetyPanel(sum, {
+        onWheelset: (w) => {
+          if (!wheelsets.includes(w)) return;
+          ws = w;
+          const sel = panel.querySelector("#force-ws");
+          if (sel) sel.value = w;
+          draw();
+        },
+      }));
       if (!wheelsets.length) panel.append(notice("empty", null, "This run recorded no wheel–rail forces."));
       else {
         plot.card.setControls(h("div", { class: "controls" },
           simpleSelect("force-ws", "Wheelset", wheelsets.map((w) => [w, w.replace("wheelset", "wheelset ")]), ws, (v) => { ws = v; draw(); }),
-          simpleSelect("force-dir", "Force", [["z", "vertical (z)"], ["y", "lateral (y)"], ["n", "normal (n)"]].filter(([d]) => has(`${ws}.left.force.${d}`)), dir, (v) => { dir = v; draw(); })));
+          simpleSelect("force-dir", "Force", [["z", "vertical Q (z)"], ["y", "lateral Y (y)"], ["n", "normal N (n)"]].filter(([d]) => has(`${ws}.left.force.${d}`)), dir, (v) => { dir = v; draw(); })));
         panel.append(plot.el);
         draw();
       }
-      const idx = sum?.safety?.indices || [];
-      const NAMES = { derailment_coefficient: "Derailment coefficient Q/P", wheel_unloading: "Wheel unloading ΔP/P", wheelset_lateral_force: "Wheelset lateral force ΣY" };
-      panel.append(h("section", { class: "card", "aria-labelledby": "safety-title" }, h("h2", { id: "safety-title" }, "Running safety"),
-        idx.length ? dataTable([
-          { key: "name", label: "Index", format: (v) => NAMES[v] || v },
-          { key: "location", label: "Where" },
-          { key: "value", label: "Maximum", num: true, format: (v, r) => `${fmt(v, 3)} ${r.unit === "-" ? "" : prettyUnit(r.unit)}` },
-          { key: "limit", label: "Limit", num: true, format: (v, r) => `${fmt(v, 3)} ${r.unit === "-" ? "" : prettyUnit(r.unit)}` },
-          { key: "utilisation", label: "Utilisation", num: true, format: (v) => (v === null ? "–" : `${(100 * v).toFixed(1)} %`) },
-          { key: "passed", label: "Result", format: (v) => (v === null || v === undefined ? "–" : h("span", { class: v ? "pass" : "fail" }, v ? "passed" : "exceeded")) },
-          { key: "time_of_max", label: "At (s)", num: true, format: (v) => fmt(v, 4) },
-        ], idx, { caption: "Running-safety indices (GB 5599, EN 14363)", className: "table-scroll" })
-          : notice("empty", null, sum?.safety?.error || "No running-safety indices in the summary."),
-        idx.length ? h("details", { class: "help" }, h("summary", {}, "How the indices are processed"),
-          h("ul", {}, [...new Map(idx.map((i) => [i.name, i])).values()].map((i) => h("li", {}, h("strong", {}, `${NAMES[i.name] || i.name}: `),
-            String(i.processing || "").replace(/P0 = [\d.]+ N/g, "P0 = static wheel load"), i.standard ? ` (${i.standard})` : "")))) : null));
     }
   }
 
   // -- summary panel ------------------------------------------------------------------------------
-  function summaryPanel(panel, s, error, chans, floorGrid) {
+  function summaryPanel(panel, s, error, chans, floorGrid, catalogue) {
     if (!s) {
       panel.append(error ? errorBox(error, "No analysis summary") : notice("empty", null, "This job has no analysis summary."));
       return;
@@ -394,15 +481,16 @@ export default async function render(main, ctx) {
     const pts = s.points || {};
     const head = headlinePoint(accPoints(chans.channels, chans.points).filter((p) => pts[p.name]))?.name || Object.keys(pts)[0];
     const d = (p, dir) => pts[p]?.directions?.[dir];
+    const tag = (p) => pointTag(p, catalogue);
     const cards = [];
     if (head) {
       for (const [dir, name] of [["z", "vertical"], ["y", "lateral"]]) {
         const sp = sperlingOf(d(head, dir));
-        cards.push(metric(`Sperling ${name} (${head})`, sp.value === null ? "–" : fixed(sp.value), sp.form ? `${sp.form} form${sp.fallback ? " (record shorter than 5 s)" : ""}` : sp.why || "", gradeChip(sp.grade)));
+        cards.push(metric(h("span", {}, `Sperling ${name} `, h("span", { class: "nowrap" }, "(", tag(head), ")")), sp.value === null ? "–" : fixed(sp.value), sp.form ? `${sp.form} form${sp.fallback ? " (record shorter than 5 s)" : ""}` : sp.why || "", gradeChip(sp.grade)));
       }
       for (const [dir, name] of [["z", "vertical"], ["y", "lateral"]]) {
         const aw = awOf(d(head, dir));
-        cards.push(metric(`Weighted rms ${name} (${head})`, aw.value === null ? "–" : fmt(aw.value, 3), aw.weighting ? `a_w (${aw.weighting}) in m/s²${aw.comfort ? ` – ${aw.comfort}` : ""}` : ""));
+        cards.push(metric(h("span", {}, `Weighted rms ${name} `, h("span", { class: "nowrap" }, "(", tag(head), ")")), aw.value === null ? "–" : fmt(aw.value, 3), aw.weighting ? `a_w (${aw.weighting}) in m/s²${aw.comfort ? ` – ${aw.comfort}` : ""}` : ""));
       }
       let best = null;
       for (const [p, ps] of Object.entries(pts)) {
@@ -411,42 +499,15 @@ export default async function render(main, ctx) {
           if (typeof v === "number" && (!best || v > best.v)) best = { v, p, dir, t: dd.peaks.time_of_max_abs };
         }
       }
-      if (best) cards.push(metric("Largest |acceleration|", fmt(best.v, 3), `m/s² at ${best.p} ${DIRECTION_NAMES[best.dir]}, t = ${fmt(best.t, 3)} s`));
+      if (best) cards.push(metric("Largest |acceleration|", fmt(best.v, 3), h("span", {}, "m/s² at ", tag(best.p), ` ${DIRECTION_NAMES[best.dir]}, t = ${fmt(best.t, 3)} s`)));
       const nmv = pts[head]?.mean_comfort;
-      if (nmv?.value !== undefined && nmv?.value !== null) cards.push(metric(`Mean comfort N_MV (${head})`, fixed(nmv.value), `EN 12299 – ${nmv.scale}${nmv.short_run ? " (short run)" : ""}`));
+      if (nmv?.value !== undefined && nmv?.value !== null) cards.push(metric(h("span", {}, "Mean comfort N_MV (", tag(head), ")"), fixed(nmv.value), `EN 12299 – ${nmv.scale}${nmv.short_run ? " (short run)" : ""}`));
     }
-    const idx = s.safety?.indices || [];
-    if (idx.length) {
-      const worst = idx.reduce((a, b) => ((b.utilisation ?? 0) > (a.utilisation ?? 0) ? b : a));
-      const allPass = idx.every((i) => i.passed !== false);
-      cards.push(metric("Running safety", h("span", { class: allPass ? "pass" : "fail" }, allPass ? "passed" : "exceeded"), `highest utilisation ${(100 * (worst.utilisation ?? 0)).toFixed(1)} % (${worst.name.replace(/_/g, " ")}, ${worst.location})`));
-    }
+    const safe = safetyHeadline(s);
+    if (safe) cards.push(metric("Running safety", h("span", { class: safe.passed ? "pass" : "fail" }, safe.passed ? "passed" : "exceeded"), safe.text));
     panel.append(h("div", { class: "cards", id: "summary-cards" }, cards));
-
-    const rows = Object.entries(pts).map(([p, ps]) => {
-      const z = d(p, "z");
-      const y = d(p, "y");
-      return {
-        point: p, floor: ps.on_floor, wz: sperlingOf(z), wy: sperlingOf(y), awz: awOf(z).value, awy: awOf(y).value,
-        pz: z?.peaks?.max_abs ?? null, py: y?.peaks?.max_abs ?? null, rz: z?.peaks?.rms ?? null, ry: y?.peaks?.rms ?? null,
-        fz: z?.dominant_peaks?.[0]?.frequency ?? null, fy: y?.dominant_peaks?.[0]?.frequency ?? null, nmv: ps.mean_comfort?.value ?? null,
-      };
-    });
-    const spCell = (v) => (v.value === null ? "–" : h("span", {}, fixed(v.value), v.fallback ? h("sup", { title: "filter form: the record is shorter than the 5 s the spectral form needs" }, "f") : null, gradeChip(v.grade)));
-    panel.append(h("section", { class: "card" }, dataTable([
-      { key: "point", label: "Point" },
-      { key: "wz", label: "W vertical", num: true, value: (r) => r.wz.value, format: (v, r) => spCell(r.wz) },
-      { key: "wy", label: "W lateral", num: true, value: (r) => r.wy.value, format: (v, r) => spCell(r.wy) },
-      { key: "awz", label: "a_w vertical (m/s²)", num: true },
-      { key: "awy", label: "a_w lateral (m/s²)", num: true },
-      { key: "pz", label: "Peak vertical (m/s²)", num: true },
-      { key: "py", label: "Peak lateral (m/s²)", num: true },
-      { key: "rz", label: "rms vertical (m/s²)", num: true },
-      { key: "ry", label: "rms lateral (m/s²)", num: true },
-      { key: "fz", label: "Dominant f vertical (Hz)", num: true },
-      { key: "fy", label: "Dominant f lateral (Hz)", num: true },
-      { key: "nmv", label: "N_MV (–)", num: true, format: (v) => fixed(v) },
-    ], rows, { caption: "Comfort indices per point (W: Sperling index, a_w: ISO 2631 weighted rms – Wb vertical, Wd lateral)", className: "table-scroll" })));
+    panel.append(h("section", { class: "card" }, comfortTable(pts, catalogue)));
+    panel.append(pointsCard(catalogue, { id: "points-card" }));
     const notes = [...(s.notes || [])];
     const errs = new Set();
     for (const ps of Object.values(pts)) for (const dd of Object.values(ps.directions || {})) for (const e of Object.values(dd.errors || {})) errs.add(e.replace(/^\w+Error: /, ""));

@@ -7,6 +7,13 @@ import { replaceQuery, go } from "../components/nav.js";
 const ACTIVE = new Set(["queued", "running"]);
 const PAGE = 50;
 
+/** The status a study's progress bar shows: running while any of its jobs is queued or running
+ * (so it reads 100 % only when every job has finished). */
+export function studyBarStatus(st) {
+  const open = (st.counts?.queued || 0) + (st.counts?.running || 0);
+  return open > 0 ? "running" : st.status;
+}
+
 /** A delete button that asks once more before acting (no modal dialog). */
 export function confirmButton(label, confirmLabel, action, { danger = true } = {}) {
   let armed = false;
@@ -63,7 +70,7 @@ export default async function render(main, ctx) {
   // -- jobs ------------------------------------------------------------------------------------
   const jobRows = new Map();
   const jobsBody = h("tbody");
-  const jobsInfo = h("span", { class: "muted" });
+  const jobsInfo = h("span", { class: "muted", id: "jobs-count", "aria-live": "polite" });
   const prev = h("button", { type: "button", class: "btn btn-small", onclick: () => { state.offset = Math.max(0, state.offset - PAGE); sync(); refreshJobs(true); } }, "← Newer");
   const next = h("button", { type: "button", class: "btn btn-small", onclick: () => { state.offset += PAGE; sync(); refreshJobs(true); } }, "Older →");
   const compareBtn = h("button", { type: "button", class: "btn btn-small", disabled: true, onclick: () => go(`/compare?jobs=${[...state.selected].join(",")}`) }, "Compare selected");
@@ -83,9 +90,21 @@ export default async function render(main, ctx) {
     jobsBody));
   const jobsEmpty = h("div");
 
+  let lastPage = { total: 0, n: 0 };
+  const noMatch = h("div");
+
+  /** Hide the rows the name filter excludes; the pager counts what is shown. */
   function applyText() {
     const t = state.text.trim().toLowerCase();
-    for (const [id, r] of jobRows) r.tr.hidden = !!t && !(r.job.name.toLowerCase().includes(t) || id.includes(t));
+    let shown = 0;
+    for (const [id, r] of jobRows) {
+      r.tr.hidden = !!t && !(r.job.name.toLowerCase().includes(t) || id.includes(t));
+      if (!r.tr.hidden) shown += 1;
+    }
+    const { total, n } = lastPage;
+    const range = total ? `${state.offset + 1}–${state.offset + n} of ${total}` : "";
+    jobsInfo.textContent = t && total ? `${shown} of ${n} on this page match “${state.text.trim()}” (jobs ${range})` : range;
+    setChildren(noMatch, t && n && !shown ? notice("empty", null, `No job on this page matches “${state.text.trim()}”.`) : null);
   }
 
   function jobActions(job) {
@@ -188,11 +207,11 @@ export default async function render(main, ctx) {
         jobRows.delete(id);
       }
     }
+    lastPage = { total: page.total, n: page.items.length };
     applyText();
     jobsTable.hidden = page.items.length === 0;
     setChildren(jobsEmpty, page.items.length ? null : notice("empty", "No jobs here yet",
       state.status || state.study ? "No job matches these filters." : h("span", {}, "Submit one from ", h("a", { href: "#/new" }, "New job"), " or run a ", h("a", { href: "#/studies/new" }, "study"), ".")));
-    jobsInfo.textContent = page.total ? `${state.offset + 1}–${state.offset + page.items.length} of ${page.total}` : "";
     prev.disabled = state.offset === 0;
     next.disabled = state.offset + page.items.length >= page.total;
     const active = page.items.some((j) => ACTIVE.has(j.status));
@@ -245,7 +264,7 @@ export default async function render(main, ctx) {
     const c = r.cells;
     setChildren(c.name, h("a", { href: `#/studies/${s.id}` }, s.name), s.preset ? h("div", { class: "small muted" }, `preset ${s.preset}`) : null);
     setChildren(c.status, badge(s.status));
-    setChildren(c.progress, progressBar(s.progress, `Progress of study ${s.name}`, s.status));
+    setChildren(c.progress, progressBar(s.progress, `Progress of study ${s.name}`, studyBarStatus(s)));
     setChildren(c.jobs, `${s.n_jobs}`, h("div", { class: "small muted" }, Object.entries(s.counts).map(([k, v]) => `${v} ${k}`).join(", ")));
     c.created.textContent = when(s.created_at);
     const key = ACTIVE.has(s.status) ? "active" : "final";
@@ -299,7 +318,7 @@ export default async function render(main, ctx) {
           h("label", { for: "filter-study" }, "Study", studySel),
           h("label", { for: "filter-text" }, "Name contains", textIn),
           h("div", { class: "grow" }), compareBtn),
-        jobsEmpty, jobsTable,
+        jobsEmpty, jobsTable, noMatch,
         h("div", { class: "pager" }, jobsInfo, prev, next));
     } else panel.append(studiesBox);
   }, { label: "Jobs or studies", initial: state.tab });

@@ -7,6 +7,7 @@ import { SchemaForm } from "../components/schemaform.js";
 import { parseYamlOrJson, toYaml } from "../components/yaml.js";
 import { go, replaceQuery } from "../components/nav.js";
 import { estimatePanel } from "../components/estimatepanel.js";
+import { solverState, compilingText, waitNote } from "../components/waiting.js";
 
 const DEFAULT_PRESET = "paper-random-straight-80";
 
@@ -18,6 +19,48 @@ export function mergeScenario(base, over) {
   const out = { ...base };
   for (const [k, v] of Object.entries(over)) out[k] = k in base ? mergeScenario(base[k], v) : v;
   return out;
+}
+
+const isObj = (v) => v !== null && typeof v === "object" && !Array.isArray(v);
+const same = (a, b) => JSON.stringify(a) === JSON.stringify(b);
+
+/**
+ * The dotted-path overrides that turn `base` (a preset's scenario) into `value`: changed leaves
+ * by their path; a mapping whose kind changed, lost keys or a changed list as a whole.
+ */
+export function overridesFrom(base, value, prefix = "") {
+  const out = {};
+  for (const [k, v] of Object.entries(value || {})) {
+    const path = prefix ? `${prefix}.${k}` : k;
+    const b = base?.[k];
+    if (same(b, v)) continue;
+    const whole = !isObj(v) || !isObj(b) || v.kind !== b.kind || Object.keys(b).some((x) => !(x in v));
+    if (whole) out[path] = v;
+    else Object.assign(out, overridesFrom(b, v, path));
+  }
+  return out;
+}
+
+/**
+ * The name a job gets while the user has not typed one: the preset's name, with the speed it
+ * ends with replaced by the form's speed, "-flexible" / "-rigid" when the body models changed and
+ * "-edited" when anything else but the run length (or the name and description) did.
+ */
+export function followingName(baseName, base, value) {
+  let name = String(baseName || "scenario");
+  if (!base) return name;
+  const changed = Object.keys(overridesFrom(base, value)).filter((k) => !["name", "description", "duration_s", "distance_m"].includes(k));
+  const speed = value.speed_kmh;
+  if (changed.includes("speed_kmh") && typeof speed === "number") {
+    const tail = `-${String(base.speed_kmh)}`;
+    name = name.endsWith(tail) ? `${name.slice(0, -tail.length)}-${speed}` : `${name}-${speed}kmh`;
+  }
+  const model = (v) => [v?.bodies?.carbody?.model, v?.bodies?.frames?.model];
+  const [bm, vm] = [model(base), model(value)];
+  if (!same(bm, vm)) name += vm.includes("flexible") ? "-flexible" : "-rigid";
+  const rest = changed.filter((k) => k !== "speed_kmh" && !/^bodies\.(carbody|frames)(\.model)?$/.test(k));
+  if (rest.length) name += "-edited";
+  return name.slice(0, 80);
 }
 
 /** A scenario text → full scenario (fetching the preset it starts from, if any). */
@@ -38,16 +81,20 @@ export default async function render(main, ctx) {
   let presets;
   let initial;
   let startLabel;
+  let base = null; // {preset, scenario}: what the form started from, the base of the overrides
   try {
     [schema, presets] = await Promise.all([
       cached("schema", api.scenarioSchema), cached("presets", api.presets)]);
     if (q.from) {
       initial = await api.jobScenario(q.from);
       startLabel = `a copy of job ${q.from.slice(0, 8)}`;
+      const src = await api.job(q.from).catch(() => null);
+      if (src?.preset && presets.some((p) => p.name === src.preset)) base = { preset: src.preset, scenario: await cached(`preset:${src.preset}`, () => api.preset(src.preset)) };
     } else {
       const name = q.preset && presets.some((p) => p.name === q.preset) ? q.preset : (presets.find((p) => p.name === DEFAULT_PRESET) || presets[0])?.name;
       initial = await cached(`preset:${name}`, () => api.preset(name));
       startLabel = `preset ${name}`;
+      base = { preset: name, scenario: initial };
     }
   } catch (err) {
     setChildren(main, h("h1", {}, "New job"), errorBox(err, "The scenario form could not be prepared"));
@@ -56,7 +103,16 @@ export default async function render(main, ctx) {
   if (ctx.signal.aborted) return undefined;
 
   const msg = h("div", { id: "submit-message", "aria-live": "polite" });
-  const form = new SchemaForm(schema, initial, { onChange: () => { yamlDirty = false; estimate.schedule(); } });
+  const form = new SchemaForm(schema, initial, { onChange: () => { yamlDirty = false; followName(); estimate.schedule(); } });
+  // the job name follows the edits until the user types one
+  let nameTyped = !!q.from;
+  // (capture: before the form's own listener reports the change)
+  form.el.addEventListener("input", (e) => { if (e.target.id === "f-name") nameTyped = true; }, true);
+  function followName() {
+    if (nameTyped || !base) return;
+    const name = followingName(base.preset, base.scenario, form.value);
+    if (name !== form.value.name) form.setField(["name"], name);
+  }
   const estimate = estimatePanel(() => form.value, ctx.signal, () => form.el.querySelectorAll('[aria-invalid="true"]').length);
   let yamlDirty = false;
 
@@ -74,6 +130,8 @@ export default async function render(main, ctx) {
     loadPreset.disabled = true;
     try {
       const sc = await cached(`preset:${presetSel.value}`, () => api.preset(presetSel.value));
+      base = { preset: presetSel.value, scenario: sc };
+      nameTyped = false;
       form.setValue(sc);
       estimate.schedule();
       editor.value = toYaml(sc);
@@ -101,7 +159,12 @@ export default async function render(main, ctx) {
   const editorMsg = h("div", { "aria-live": "polite" });
   async function parseEditor() {
     try {
-      return await resolveScenario(parseYamlOrJson(editor.value));
+      const data = parseYamlOrJson(editor.value);
+      const sc = await resolveScenario(data);
+      const named = isObj(data) ? (isObj(data.scenario) ? data.scenario : data) : {};
+      base = typeof named.preset === "string" ? { preset: named.preset, scenario: await cached(`preset:${named.preset}`, () => api.preset(named.preset)) } : null;
+      if ("name" in named) nameTyped = true;
+      return sc;
     } catch (err) {
       setChildren(editorMsg, err instanceof ApiError ? errorBox(err, "The preset named in the text could not be loaded") : notice("error", "The text is not a valid scenario file", h("p", {}, err.message)));
       throw err;
@@ -160,11 +223,11 @@ export default async function render(main, ctx) {
       const extra = [];
       const dtSuggested = err.body?.dt_suggested;
       if (dtSuggested) {
-        extra.push(h("button", { type: "button", class: "btn btn-small", onclick: () => {
+        extra.push(h("button", { type: "button", class: "btn btn-small", id: "use-dt", onclick: () => {
           form.value.solver = { ...(form.value.solver || {}), dt: dtSuggested };
           form.setValue(form.value);
           estimate.schedule();
-          setChildren(msg, notice("info", null, `solver.dt set to ${dtSuggested} s.`));
+          setChildren(msg, notice("info", null, `solver.dt set to ${dtSuggested} s; submit again.`));
         } }, `Use solver.dt = ${dtSuggested} s`));
       }
       setChildren(msg, notice("error", "The server rejected the scenario", h("p", {}, `${items.length} problem${items.length > 1 ? "s" : ""}; ${unmatched.length ? "see the list above the form" : "each is shown at its field"}.`), ...extra));
@@ -193,19 +256,58 @@ export default async function render(main, ctx) {
       return;
     }
     button.disabled = true;
-    if (pending) setChildren(msg, loading(pending));
+    const stopWaiting = pending ? explainWait(pending) : () => {};
     try {
       await send(sc);
     } catch (err) {
       showServerError(err, failTitle);
     } finally {
+      stopWaiting();
       button.disabled = false;
     }
   }
 
+  /**
+   * While a request is pending: the pending text, the time so far and – while the service
+   * compiles the solver (GET /health `solver`) – that it does, with its estimate. Returns the
+   * function that stops it.
+   */
+  function explainWait(pending) {
+    const t0 = Date.now();
+    let stopped = false;
+    let solver = { compiling: false, estimate_s: null };
+    const show = () => {
+      if (stopped) return;
+      const s = (Date.now() - t0) / 1000;
+      setChildren(msg, loading(s < 2 ? pending : `${pending} (${Math.round(s)} s)`),
+        solver.compiling ? waitNote({ id: "submit-compiling", title: "The service is compiling the solver – first run only",
+          text: `The service checks the time step with the solver's kernels and is ${compilingText(solver)}; the job is queued as soon as it is done`,
+          elapsed_s: s, estimate_s: solver.estimate_s, remaining: true }) : null);
+    };
+    const ask = async () => {
+      solver = await solverState(ctx.signal);
+      show();
+    };
+    ask();
+    const tick = setInterval(show, 1000);
+    const poll = setInterval(ask, 3000);
+    return () => {
+      stopped = true;
+      clearInterval(tick);
+      clearInterval(poll);
+    };
+  }
+
+  /** The request body of a scenario: its preset and the overrides when the form started from
+   * one (so the job records its preset), else the whole scenario. */
+  function jobBody(sc) {
+    if (!base) return { scenario: sc };
+    return { preset: base.preset, overrides: overridesFrom(base.scenario, sc) };
+  }
+
   checkBtn.addEventListener("click", () => withScenario(checkBtn, { failTitle: "The scenario could not be checked" }, async (sc) => {
     try {
-      const res = await api.validateScenario({ scenario: sc });
+      const res = await api.validateScenario(jobBody(sc));
       const pf = res?.preflight;
       setChildren(msg, notice("info", "The server accepts this scenario", pf?.stability ? `Stable time step up to ${pf.stability.dt_max?.toExponential(2)} s; ${pf.n_dof} degrees of freedom; output at ${pf.output_rate_hz} Hz.` : null));
     } catch (err) {
@@ -217,7 +319,7 @@ export default async function render(main, ctx) {
   const submitForm = h("form", { class: "stack", novalidate: true, onsubmit: (e) => {
     e.preventDefault();
     withScenario(submitBtn, { pending: "Submitting…", failTitle: "The job could not be submitted" }, async (sc) => {
-      const job = await api.submitJob({ scenario: sc, reuse: reuse.checked });
+      const job = await api.submitJob({ ...jobBody(sc), reuse: reuse.checked });
       setChildren(msg, notice("info", job.reused ? "Results reused" : "Job submitted", `Job ${job.id} – opening it…`));
       go(`/jobs/${job.id}`);
     });

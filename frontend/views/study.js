@@ -4,24 +4,18 @@
 
 import { api, cached } from "../api.js";
 import { h, setChildren, badge, progressBar, fmt, fixed, pct, errorBox, notice, loading, tabs, dataTable, when, DIRECTION_NAMES } from "../components/dom.js";
-import { plotCard, baseLayout, COLORS, DASHES, loadPlotly } from "../components/plot.js";
-import { simpleSelect, directionOptions } from "../components/channels.js";
-import { confirmButton } from "./jobs.js";
+import { plotCard, loadPlotly } from "../components/plot.js";
+import { simpleSelect } from "../components/channels.js";
+import { loadPaperPoints, paperPoints, pointCatalogue, pointOrder, pointTag, pointText, pointsCard } from "../components/points.js";
+import { facetFigure, flexRigidFigure, facetPanels } from "../components/facets.js";
+import { confirmButton, studyBarStatus } from "./jobs.js";
 import { go, replaceQuery } from "../components/nav.js";
 
-/** The paper's points in their order (GET /schemas/points), loaded with the study. */
-let paperPoints = [];
-let paperOrder = [];
-const SYMBOLS = ["circle", "square", "diamond", "triangle-up", "cross", "x", "star", "triangle-down"];
 const ACTIVE = new Set(["queued", "running"]);
-const SIDE_LEGEND = { orientation: "v", x: 1.02, xanchor: "left", y: 1, yanchor: "top", font: { size: 11 } };
 
 export const groupLabel = (g) => Object.entries(g || {}).map(([k, v]) => (k === "body_model" ? `${v} body` : String(v))).join(" · ") || "all jobs";
 
-function pointsOf(rows) {
-  const pts = [...new Set(rows.map((r) => r.point))];
-  return [...paperOrder.filter((p) => pts.includes(p)), ...pts.filter((p) => !paperOrder.includes(p)).sort()];
-}
+const pointsOf = (rows) => pointOrder(rows.map((r) => r.point));
 
 export default async function render(main, ctx) {
   loadPlotly().catch(() => {}); // in parallel with the data
@@ -37,10 +31,7 @@ export default async function render(main, ctx) {
   async function poll() {
     let st;
     try {
-      if (!paperOrder.length) {
-        paperPoints = await cached("paper-points", api.paperPoints);
-        paperOrder = paperPoints.map((p) => p.name);
-      }
+      await loadPaperPoints();
       st = await api.study(id, { signal: ctx.signal });
     } catch (err) {
       if (ctx.signal.aborted) return;
@@ -90,28 +81,35 @@ export default async function render(main, ctx) {
           }))),
       st.description ? h("p", { class: "muted" }, st.description) : null,
       h("div", { class: "card" }, h("div", { class: "row" },
-        h("div", { class: "grow" }, progressBar(st.progress, "Study progress", st.status)),
+        h("div", { class: "grow" }, progressBar(st.progress, "Study progress", studyBarStatus(st))),
         h("span", { id: "study-counts" }, `${st.n_jobs} jobs: ${Object.entries(st.counts).map(([k, v]) => `${v} ${k}`).join(", ") || "none"}`)),
       h("p", { class: "small muted" }, axes.join(" · "), ` · created ${when(st.created_at)}`)));
   }
 
   function buildView(st0) {
     const notesEl = h("div");
-    const state = { dir: ctx.query.dir || "z", group: ctx.query.group ?? "", points: null, peakPoint: "" , frQ: "sperling", tablePoint: "" };
+    const pointsBox = h("div");
+    const state = { dir: ["z", "y"].includes(ctx.query.dir) ? ctx.query.dir : "both", points: null, frQ: "sperling", tablePoint: "" };
     let st = st0;
-    const sync = () => replaceQuery({ tab: state.tab, dir: state.dir, group: state.group });
+    let catalogue = pointCatalogue();
+    let catalogueFrom = null;
+    const sync = () => replaceQuery({ tab: state.tab, dir: state.dir === "both" ? "" : state.dir });
+    const dirs = () => (state.dir === "both" ? ["z", "y"] : [state.dir]);
 
-    // Sperling vs speed
-    const spCard = plotCard({ title: "Sperling index against speed", id: "plot-sperling-speed", description: "Sperling index against running speed per condition and point", height: 420,
+    // Sperling vs speed and peak vs speed: one panel per condition / group and direction
+    const spCard = plotCard({ title: "Sperling index against speed", id: "plot-sperling-speed", description: "Sperling index against running speed: one panel per condition and direction, one colour per point", height: 520,
       csv: () => ({ header: ["group", "point", "direction", "speed (km/h)", "Sperling W", "job"], rows: st.tables.sperling_vs_speed.flatMap((r) => r.speed_kmh.map((v, i) => [groupLabel(r.group), r.point, r.direction, v, r.value[i], r.job_ids[i]])) }) });
-    const pkCard = plotCard({ title: "Peak acceleration against speed", id: "plot-peak-speed", description: "Largest absolute acceleration against running speed with least-squares lines", height: 420,
+    const pkCard = plotCard({ title: "Peak acceleration against speed", id: "plot-peak-speed", description: "Largest absolute acceleration against running speed with least-squares lines: one panel per condition and direction", height: 520,
       csv: () => ({ header: ["group", "point", "direction", "speed (km/h)", "peak (m/s²)", "fit slope", "fit intercept", "R²", "job"], rows: st.tables.peak_vs_speed.flatMap((r) => r.speed_kmh.map((v, i) => [groupLabel(r.group), r.point, r.direction, v, r.value[i], r.fit?.slope, r.fit?.intercept, r.fit?.r_squared, r.job_ids[i]])) }) });
+    const frCard = plotCard({ title: "Flexible against rigid", id: "plot-flex-rigid", description: "Difference flexible − rigid in percent of rigid, per point and direction", height: 380,
+      csv: () => ({ header: ["case", "speed (km/h)", "point", "direction", "quantity", "rigid", "flexible", "difference", "relative"], rows: (st.tables.flexible_vs_rigid || []).map((r) => [caseLabel(r), r.speed_kmh, r.point, r.direction, r.quantity, r.rigid, r.flexible, r.difference, r.relative]) }) });
     const spControls = h("div", { class: "controls" });
     const pkControls = h("div", { class: "controls" });
     spCard.setControls(spControls);
     pkCard.setControls(pkControls);
     const fitTable = h("div");
-    const frBox = h("div");
+    const frControls = h("div", { class: "controls" });
+    const frTable = h("div");
     const jobsBox = h("div");
 
     function bindClicks(card) {
@@ -127,48 +125,46 @@ export default async function render(main, ctx) {
       return [...new Map(rows.map((r) => [groupLabel(r.group), r.group])).keys()];
     }
 
+    /** Positions and descriptions of the points: a finished job's recorded points (its
+     * vehicle), else the paper's list (descriptions only). */
+    async function refreshCatalogue() {
+      const done = st.jobs.find((j) => j.status === "succeeded");
+      if (!done || catalogueFrom === done.id) return;
+      try {
+        const ch = await cached(`channels:${done.id}`, () => api.channels(done.id));
+        catalogueFrom = done.id;
+        catalogue = pointCatalogue(ch.points);
+        setChildren(pointsBox, pointsCard(catalogue, { id: "points-card", open: false, note: `Positions of the vehicle of job ${done.name}.` }));
+      } catch { /* descriptions only */ }
+    }
+
     function controls(el, rows, which) {
-      const groups = groupsOf(rows);
       const pts = pointsOf(rows);
-      const centre = paperPoints.find((p) => p.along === "centre" && p.level === "floor")?.name;
-      if (!state.points) state.points = pts.includes(centre) && groups.length > 1 ? [centre] : pts.slice();
-      if (state.group && !groups.includes(state.group)) state.group = "";
+      if (!state.points) state.points = pts.filter((p) => catalogue.get(p)?.kind !== "grid");
       const boxes = pts.map((p) => h("label", { class: "check" }, h("input", { type: "checkbox", value: p, checked: state.points.includes(p), onchange: (e) => {
         state.points = e.target.checked ? [...state.points, p] : state.points.filter((x) => x !== p);
         drawAll();
-      } }), p));
+      } }), pointTag(p, catalogue)));
       setChildren(el,
-        simpleSelect(`${which}-dir`, "Direction", directionOptions(["z", "y"]), state.dir, (v) => { state.dir = v; sync(); drawAll(); }),
-        simpleSelect(`${which}-group`, "Condition / group", [["", `all (${groups.length})`], ...groups.map((g) => [g, g])], state.group, (v) => { state.group = v; sync(); drawAll(); }),
+        simpleSelect(`${which}-dir`, "Direction", [["both", "vertical and lateral"], ["z", "vertical (z)"], ["y", "lateral (y)"]], state.dir, (v) => { state.dir = v; sync(); drawAll(); }),
         h("fieldset", {}, h("legend", {}, "Points"), h("div", { class: "chips" }, boxes)));
     }
 
-    function speedTraces(rows, withFit) {
-      const sel = rows.filter((r) => r.direction === state.dir && state.points.includes(r.point) && (!state.group || groupLabel(r.group) === state.group));
-      const groups = groupsOf(rows);
-      const pts = pointsOf(rows);
-      const traces = [];
-      const ann = [];
-      for (const r of sel) {
-        const gi = groups.indexOf(groupLabel(r.group));
-        const color = COLORS[pts.indexOf(r.point) % COLORS.length];
-        const name = `${r.point}${groups.length > 1 ? ` · ${groupLabel(r.group)}` : ""}`;
-        const fitOk = withFit && r.fit && r.fit.slope !== null;
-        traces.push({
-          type: "scatter", mode: withFit ? "markers" : "lines+markers", name: fitOk ? `${name} (R² = ${fixed(r.fit.r_squared, 3)})` : name, x: r.speed_kmh, y: r.value, customdata: r.job_ids,
-          legendgroup: name, marker: { color, size: 8, symbol: SYMBOLS[gi % SYMBOLS.length] }, line: { color, dash: DASHES[gi % DASHES.length], width: 1.6 },
-          hovertemplate: `${name}<br>%{x} km/h: %{y:.3f}${withFit ? " m/s²" : ""}<br>click to open the job<extra></extra>`,
-        });
-        if (fitOk) {
-          const x0 = Math.min(...r.speed_kmh);
-          const x1 = Math.max(...r.speed_kmh);
-          traces.push({
-            type: "scatter", mode: "lines", name: `fit ${name}: R² = ${fixed(r.fit.r_squared, 3)}`, legendgroup: name, showlegend: false, hoverinfo: "skip",
-            x: [x0, x1], y: [r.fit.slope * x0 + r.fit.intercept, r.fit.slope * x1 + r.fit.intercept], line: { color, dash: "dash", width: 1.2 },
-          });
-        }
+    function selected(rows) {
+      return rows.filter((r) => dirs().includes(r.direction) && state.points.includes(r.point));
+    }
+
+    async function drawFacets(card, rows, opts) {
+      const sel = selected(rows);
+      if (!sel.length) {
+        card.empty("Nothing to show for this choice: pick a point.");
+        return sel;
       }
-      return { traces, ann, sel };
+      const fig = facetFigure(sel, { groups: groupsOf(rows), dirs: dirs(), groupLabel, catalogue, order: pointsOf(rows), ...opts });
+      card.plotEl.style.height = `${fig.height}px`;
+      await card.draw(fig.data, fig.layout);
+      bindClicks(card);
+      return sel;
     }
 
     async function drawSperling() {
@@ -179,22 +175,8 @@ export default async function render(main, ctx) {
         return;
       }
       controls(spControls, rows, "sp");
-      const { traces } = speedTraces(rows, false);
-      if (!traces.length) {
-        spCard.empty("Nothing to show for this choice: pick a point or a group.");
-        return;
-      }
-      const speeds = rows.flatMap((r) => r.speed_kmh);
-      const x0 = Math.min(...speeds) - 3;
-      const x1 = Math.max(...speeds) + 3;
-      const limits = [[2.5, "excellent < 2.5"], [2.75, "good < 2.75"], [3.0, "qualified ≤ 3.0"]];
-      await spCard.draw(traces, baseLayout("Speed (km/h)", `Sperling index W ${DIRECTION_NAMES[state.dir]} (–)`, {
-        hovermode: "closest", xaxis: { range: [x0, x1] }, legend: SIDE_LEGEND,
-        shapes: limits.map(([y]) => ({ type: "line", xref: "paper", x0: 0, x1: 1, y0: y, y1: y, line: { color: "#9aa3ad", dash: "dot", width: 1 } })),
-        annotations: limits.map(([y, t]) => ({ xref: "paper", x: 1, y, text: t, showarrow: false, xanchor: "right", yanchor: "bottom", font: { size: 10, color: "#52606d" } })),
-      }));
-      bindClicks(spCard);
-      spCard.setNote("GB 5599 grades as dotted lines. Click a point to open its job.");
+      const sel = await drawFacets(spCard, rows, { yTitle: (d) => `W ${DIRECTION_NAMES[d]} (–)`, limits: [[2.5, "excellent < 2.5"], [2.75, "good < 2.75"], [3.0, "qualified ≤ 3.0"]], mode: "lines+markers" });
+      if (sel.length) spCard.setNote(`One panel per condition${dirs().length > 1 ? " and direction" : ""} (${facetPanels(groupsOf(rows), dirs()).length} panels), one colour per point, the same in every chart. GB 5599 grades as dotted lines. Click a point to open its job.`);
     }
 
     async function drawPeak() {
@@ -206,51 +188,84 @@ export default async function render(main, ctx) {
         return;
       }
       controls(pkControls, rows, "pk");
-      const { traces, sel } = speedTraces(rows, true);
-      if (!traces.length) {
-        pkCard.empty("Nothing to show for this choice: pick a point or a group.");
+      const sel = await drawFacets(pkCard, rows, { yTitle: (d) => `Peak |a| ${DIRECTION_NAMES[d]} (m/s²)`, withFit: true, mode: "markers", unit: "m/s²" });
+      if (!sel.length) {
         setChildren(fitTable);
         return;
       }
-      await pkCard.draw(traces, baseLayout("Speed (km/h)", `Peak |acceleration| ${DIRECTION_NAMES[state.dir]} (m/s²)`, { hovermode: "closest", legend: SIDE_LEGEND }));
-      bindClicks(pkCard);
-      pkCard.setNote("Least-squares lines dashed, R² in the legend. Click a point to open its job.");
+      pkCard.setNote("Least-squares lines dashed (R² in the table below and on hover). Click a point to open its job.");
       setChildren(fitTable, dataTable([
-        { key: "group", label: "Group" }, { key: "point", label: "Point" },
+        { key: "group", label: "Group" }, { key: "point", label: "Point", format: (v) => pointTag(v, catalogue) },
+        { key: "direction", label: "Direction", format: (v) => DIRECTION_NAMES[v] || v },
         { key: "slope", label: "Slope (m/s² per km/h)", num: true, format: (v) => fmt(v, 4) },
         { key: "intercept", label: "Intercept (m/s²)", num: true, format: (v) => fmt(v, 4) },
         { key: "r2", label: "R²", num: true, format: (v) => fixed(v, 4) },
         { key: "n", label: "Jobs", num: true },
-      ], sel.map((r) => ({ group: groupLabel(r.group), point: r.point, slope: r.fit?.slope ?? null, intercept: r.fit?.intercept ?? null, r2: r.fit?.r_squared ?? null, n: r.fit?.n ?? r.value.filter((v) => v !== null).length })),
-      { caption: `Linear fits of the peak ${DIRECTION_NAMES[state.dir]} acceleration against speed` }));
+      ], sel.map((r) => ({ group: groupLabel(r.group), point: r.point, direction: r.direction, slope: r.fit?.slope ?? null, intercept: r.fit?.intercept ?? null, r2: r.fit?.r_squared ?? null, n: r.fit?.n ?? r.value.filter((v) => v !== null).length })),
+      { caption: "Linear fits of the peak acceleration against speed", className: "table-scroll" }));
     }
 
-    function drawFlexRigid() {
+    const caseLabel = (r) => Object.entries(r.group || {}).filter(([k]) => k !== "speed_kmh").map(([, v]) => v).join(" · ") || "–";
+    const caseKey = (r) => `${caseLabel(r)}${r.speed_kmh ? `, ${fmt(r.speed_kmh)} km/h` : ""}`;
+    const QN = { sperling: "Sperling W (–)", a_w: "weighted rms a_w (m/s²)", rms: "rms (m/s²)", peak: "peak |a| (m/s²)" };
+
+    async function drawFlexRigid() {
       const rows = st.tables.flexible_vs_rigid || [];
       const hasModels = (st.axes || []).some((a) => a.name === "body_model" && a.values.includes("rigid") && a.values.includes("flexible"));
       if (!rows.length) {
-        setChildren(frBox, notice("empty", null, hasModels ? (ACTIVE.has(st.status) ? "The comparison appears when both the rigid and the flexible job of a case have finished." : "No pair of rigid and flexible jobs finished with results.") : "This study has no rigid-against-flexible axis. Create one with body models rigid and flexible (e.g. the Table 2 preset)."));
+        setChildren(frControls);
+        setChildren(frTable);
+        frCard.empty(hasModels ? (ACTIVE.has(st.status) ? "The comparison appears when both the rigid and the flexible job of a case have finished." : "No pair of rigid and flexible jobs finished with results.") : "This study has no rigid-against-flexible axis. Create one with body models rigid and flexible (e.g. the Table 2 preset).");
         return;
       }
       const qs = [...new Set(rows.map((r) => r.quantity))];
       if (!qs.includes(state.frQ)) state.frQ = qs[0];
-      const QN = { sperling: "Sperling W (–)", a_w: "weighted rms a_w (m/s²)", rms: "rms (m/s²)", peak: "peak |a| (m/s²)" };
-      const sel = rows.filter((r) => state.frQ === "all" || r.quantity === state.frQ);
-      setChildren(frBox,
-        h("div", { class: "controls" }, simpleSelect("fr-quantity", "Quantity", [...qs.map((q) => [q, QN[q] || q]), ["all", "all"]], state.frQ, (v) => { state.frQ = v; drawFlexRigid(); })),
-        dataTable([
-          { key: "group", label: "Case" },
-          { key: "speed_kmh", label: "Speed (km/h)", num: true },
-          { key: "point", label: "Point" },
-          { key: "direction", label: "Direction", format: (v) => DIRECTION_NAMES[v] || v },
-          { key: "quantity", label: "Quantity", format: (v) => QN[v] || v },
-          { key: "rigid", label: "Rigid", num: true, format: (v) => fmt(v, 3) },
-          { key: "flexible", label: "Flexible", num: true, format: (v) => fmt(v, 3) },
-          { key: "difference", label: "Difference", num: true, format: (v) => fmt(v, 3) },
-          { key: "relative", label: "Difference (%)", num: true, format: (v) => h("span", { class: v > 0 ? "pos" : v < 0 ? "neg" : "" }, pct(v)) },
-          { key: "links", label: "Jobs", value: () => null, format: (v, r) => h("span", {}, h("a", { href: `#/jobs/${r.rigid_job}` }, "rigid"), " · ", h("a", { href: `#/jobs/${r.flexible_job}` }, "flexible"), " · ", h("a", { href: `#/compare?jobs=${r.rigid_job},${r.flexible_job}&channel=carbody.${r.point}.acc.${r.direction}` }, "overlay")) },
-        ], sel.map((r) => ({ ...r, group: Object.entries(r.group).filter(([k]) => k !== "speed_kmh").map(([, v]) => v).join(" · ") || "–" })),
-        { caption: "Flexible against rigid car body and frames (paper Table 2): difference = flexible − rigid, in percent of rigid", className: "table-scroll" }));
+      const sel = rows.filter((r) => r.quantity === state.frQ);
+      setChildren(frControls, simpleSelect("fr-quantity", "Quantity", qs.map((q) => [q, QN[q] || q]), state.frQ, (v) => { state.frQ = v; drawFlexRigid(); }));
+      const fig = flexRigidFigure(sel, { caseLabel: caseKey, catalogue, order: pointsOf(sel), quantity: QN[state.frQ] || state.frQ });
+      await frCard.draw(fig.data, fig.layout);
+      frCard.setNote("Bars: flexible − rigid in percent of rigid (the paper's Table 2); positive: the flexible body is the worse. Hover for both values.");
+      setChildren(frTable, flexRigidTable(sel), flexRigidLinks(sel));
+    }
+
+    /** Paper Table 2: a row per case and point, vertical and lateral side by side. */
+    function flexRigidTable(sel) {
+      const cases = [...new Set(sel.map(caseKey))];
+      const rows = [];
+      for (const c of cases) {
+        const of = sel.filter((r) => caseKey(r) === c);
+        for (const point of pointsOf(of)) {
+          const at = (d) => of.find((r) => r.point === point && r.direction === d) || {};
+          const [z, y] = [at("z"), at("y")];
+          const any = z.rigid_job ? z : y;
+          rows.push({ case: c, point, rz: z.rigid, fz: z.flexible, dz: z.relative, ry: y.rigid, fy: y.flexible, dy: y.relative, rigid_job: any.rigid_job, flexible_job: any.flexible_job });
+        }
+      }
+      const sign = (v) => Math.sign(Number((100 * (v ?? 0)).toFixed(1)));
+      const diff = (v) => h("span", { class: `nowrap ${sign(v) > 0 ? "pos" : sign(v) < 0 ? "neg" : ""}` }, pct(v));
+      const dirCols = (k) => [
+        { key: `r${k}`, label: "Rigid", num: true, sep: true, format: (v) => fmt(v, 3) },
+        { key: `f${k}`, label: "Flexible", num: true, format: (v) => fmt(v, 3) },
+        { key: `d${k}`, label: "Δ (%)", num: true, title: "flexible − rigid, in percent of rigid", format: diff },
+      ];
+      const many = cases.length > 1;
+      return dataTable([
+        ...(many ? [{ key: "case", label: "Case" }] : []),
+        { key: "point", label: "Point", format: (v) => pointTag(v, catalogue) },
+        ...dirCols("z"), ...dirCols("y"),
+      ], rows, {
+        caption: `Flexible against rigid car body and frames (paper Table 2): ${QN[state.frQ] || state.frQ}${many ? "" : `, ${cases[0]}`}`,
+        className: "table-scroll", groups: [{ label: "", span: many ? 2 : 1 }, { label: "Vertical (z)", span: 3 }, { label: "Lateral (y)", span: 3 }],
+      });
+    }
+
+    /** The jobs of each case: rigid, flexible and their overlay (differences against rigid). */
+    function flexRigidLinks(sel) {
+      const cases = [...new Map(sel.map((r) => [caseKey(r), r])).values()];
+      const centre = paperPoints().find((p) => p.along === "centre" && p.level === "floor")?.name || sel[0].point;
+      return h("ul", { class: "small plain-list", id: "flex-rigid-jobs" }, cases.map((r) => h("li", {}, `${caseKey(r)}: `,
+        h("a", { href: `#/jobs/${r.rigid_job}` }, "rigid job"), " · ", h("a", { href: `#/jobs/${r.flexible_job}` }, "flexible job"), " · ",
+        h("a", { href: `#/compare?jobs=${r.rigid_job},${r.flexible_job}&ref=${r.rigid_job}&channel=carbody.${centre}.acc.z` }, "overlay (differences against rigid)"))));
     }
 
     function drawJobs() {
@@ -269,20 +284,19 @@ export default async function render(main, ctx) {
         { key: "name", label: "Job", format: (v, r) => h("a", { href: `#/jobs/${r.id}` }, v) },
         ...axisNames.map((a) => ({ key: `ax:${a}`, label: a.replace(/_kmh$/, " (km/h)").replace(/_/g, " "), value: (r) => r.axes[a], format: (v) => (typeof v === "number" ? fmt(v) : String(v ?? "–")) })),
         { key: "status", label: "Status", format: (v, r) => h("span", {}, badge(v), r.error ? h("div", { class: "error-text" }, r.error) : null) },
-        { key: "wz", label: `W vertical ${p}`, num: true, format: (v) => fixed(v) },
+        { key: "wz", label: `W vertical ${p}`, title: pointText(p, catalogue), num: true, format: (v) => fixed(v) },
         { key: "wy", label: `W lateral ${p}`, num: true, format: (v) => fixed(v) },
         { key: "pz", label: `Peak vertical ${p} (m/s²)`, num: true, format: (v) => fmt(v, 3) },
         { key: "py", label: `Peak lateral ${p} (m/s²)`, num: true, format: (v) => fmt(v, 3) },
       ];
       const rows = st.jobs.map((j) => ({ ...j, wz: val(sp, j.id, p, "z"), wy: val(sp, j.id, p, "y"), pz: val(pk, j.id, p, "z"), py: val(pk, j.id, p, "y") }));
       setChildren(jobsBox,
-        allPts.length ? h("div", { class: "controls" }, simpleSelect("jobs-point", "Point", allPts.map((x) => [x, x]), p, (v) => { state.tablePoint = v; drawJobs(); })) : null,
+        allPts.length ? h("div", { class: "controls" }, simpleSelect("jobs-point", "Point", allPts.map((x) => [x, pointText(x, catalogue)]), p, (v) => { state.tablePoint = v; drawJobs(); })) : null,
         dataTable(cols, rows, { caption: "Every job of the study with its indices (Enter or click opens a job)", onRow: (r) => go(`/jobs/${r.id}`), rowLabel: (r) => `Open job ${r.name}`, className: "table-scroll" }));
     }
 
     async function drawAll() {
-      await Promise.all([drawSperling(), drawPeak()]);
-      drawFlexRigid();
+      await Promise.all([drawSperling(), drawPeak(), drawFlexRigid()]);
       drawJobs();
     }
 
@@ -294,7 +308,7 @@ export default async function render(main, ctx) {
     ], (tab, panel) => {
       if (tab === "sperling") panel.append(spCard.el);
       if (tab === "peak") panel.append(pkCard.el, h("section", { class: "card" }, fitTable));
-      if (tab === "flexrigid") panel.append(h("section", { class: "card" }, frBox));
+      if (tab === "flexrigid") panel.append(h("div", { class: "grid2 flex-rigid" }, frCard.el, h("section", { class: "card" }, frControls, frTable)));
       if (tab === "jobs") panel.append(h("section", { class: "card" }, jobsBox));
     }, { label: "Study results", initial: ctx.query.tab || "sperling" });
     t.onSelect = (tab) => {
@@ -302,12 +316,14 @@ export default async function render(main, ctx) {
       sync();
     };
     state.tab = ctx.query.tab || "sperling";
-    setChildren(body, notesEl, t.el);
+    setChildren(pointsBox, pointsCard(catalogue, { id: "points-card", open: false, note: "Positions appear when a job of the study has finished." }));
+    setChildren(body, notesEl, pointsBox, t.el);
     return {
-      update(next) {
+      async update(next) {
         st = next;
         const notes = st.tables.notes || [];
         setChildren(notesEl, notes.length ? notice("info", null, h("ul", {}, notes.map((n) => h("li", {}, n)))) : null);
+        await refreshCatalogue();
         drawAll().catch((e) => console.warn(e));
       },
     };

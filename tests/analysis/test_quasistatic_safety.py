@@ -83,7 +83,7 @@ def test_constant_forces():
 
 
 def test_two_metre_window_averages_a_short_peak():
-    """A 1 m long excursion of Q/P to 1.5 is averaged over 2 m to 1.0: within the limit."""
+    """A 1 m long excursion of Y/Q to 1.5 is averaged over 2 m to 1.0: within the limit."""
     n = round(20 * FS)
     x = np.arange(n) / FS * SPEED
     q = np.where((x >= 200.0) & (x < 201.0), -90e3, -30e3)

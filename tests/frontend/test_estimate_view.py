@@ -48,7 +48,8 @@ def test_instant_estimate_shows_the_default_preset_and_follows_the_speed(page, s
     assert _cell(page, "PC", 5) == f"{pc['directions']['y']['sperling']:.2f}"
     assert _cell(page, "PC", 6) == f"{pc['nmv']:.2f}"
     assert page.locator("#estimate-method").inner_text().startswith("Method: frequency domain")
-    assert str(len(api["flags"])) in page.locator("#estimate-flags").inner_text()
+    flags = page.locator("#estimate-flags").inner_text()
+    assert (str(len(api["flags"])) in flags) if api["flags"] else flags.startswith("No flags")
     assert page.get_attribute("#estimate-panel", "data-speed") == "80"
     shot(page, "21-new-job-instant-estimate", full_page=False)
     # typing a new speed: one request after the typing stops (debounced), the table follows

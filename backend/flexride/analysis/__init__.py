@@ -16,7 +16,7 @@ Modules (definitions, defaults and standard editions in ``docs/analysis.md``):
 * :mod:`~flexride.analysis.correlation` — cross-correlation, lag of the maximum, local maxima;
 * :mod:`~flexride.analysis.statistics` — peak statistics, regression against speed;
 * :mod:`~flexride.analysis.quasistatic` — quasi-static / dynamic split on curves;
-* :mod:`~flexride.analysis.safety` — Q/P, ΔP/P, ΣY with their limits;
+* :mod:`~flexride.analysis.safety` — Y/Q, ΔQ/Q, ΣY (EN 14363 names) with their limits;
 * :mod:`~flexride.analysis.comfort_map` — a comfort measure over thousands of nodes;
 * :mod:`~flexride.analysis.pipeline` — :func:`analyze`, every analysis of a run;
 * :mod:`~flexride.analysis.summary` — :class:`Summary`, what :func:`analyze` returns (JSON form);
@@ -63,6 +63,7 @@ from flexride.analysis.regression import regress_summaries
 from flexride.analysis.safety import (
     SAFETY_DEFAULTS,
     SAFETY_LIMITS,
+    SAFETY_SYMBOLS,
     RunningSafety,
     SafetyIndex,
     derailment_coefficient,
@@ -123,6 +124,7 @@ __all__ = [
     "QUASISTATIC_DEFAULTS",
     "SAFETY_DEFAULTS",
     "SAFETY_LIMITS",
+    "SAFETY_SYMBOLS",
     "SPERLING_DEFAULTS",
     "WEIGHTINGS",
     "ComfortMap",

@@ -36,7 +36,13 @@ from flexride.analysis.correlation import cross_correlations
 from flexride.analysis.en12299 import continuous_comfort, mean_comfort
 from flexride.analysis.iso2631 import Iso2631Result, _iso_from_weighted
 from flexride.analysis.quasistatic import QUASISTATIC_DEFAULTS, split_quasistatic
-from flexride.analysis.safety import SAFETY_DEFAULTS, SAFETY_LIMITS, RunningSafety, running_safety
+from flexride.analysis.safety import (
+    CONVENTION,
+    SAFETY_DEFAULTS,
+    SAFETY_LIMITS,
+    RunningSafety,
+    running_safety,
+)
 from flexride.analysis.spectra import Spectrum, dominant_peaks, welch_psd
 from flexride.analysis.sperling import (
     DEFAULT_SPERLING_FORM,
@@ -140,9 +146,10 @@ def _settings(sperling_form: SperlingForm, filter_method: WeightingMethod, max_l
                                       "max at lag > 0: other point lags",
                         "local_maxima": "prominence >= 0.05 (normalised), 5 largest"},
         "safety": {**SAFETY_DEFAULTS, "limits": {**SAFETY_LIMITS,
-                                                  "wheelset_lateral_force_kN": "10 + P0/3"},
-                   "editions": "GB 5599-1985 (Q/P, dP/P), EN 14363:2016 / UIC 518 (sum Y, "
-                               "processing)"},
+                                                  "wheelset_lateral_force_kN": "10 + 2Q0/3"},
+                   "editions": "GB 5599-1985 (limits of Y/Q and ΔQ/Q, its Q/P and ΔP/P), "
+                               "EN 14363:2016 / UIC 518 (ΣY, processing)",
+                   "convention": CONVENTION},
     }
 
 

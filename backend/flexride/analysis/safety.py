@@ -1,26 +1,31 @@
-"""Running safety from wheel–rail forces: derailment coefficient Q/P, wheel unloading ΔP/P and
-the wheelset lateral force ΣY, with the limits of DESIGN §6.
+"""Running safety from wheel–rail forces: derailment quotient Y/Q, wheel unloading ΔQ/Q and
+the track-shifting force ΣY, with the limits of DESIGN §6.
 
-Forces (flexride channels): ``wheelset<i>.<side>.force.z`` is the vertical wheel load P (N,
-positive in compression), ``wheelset<i>.<side>.force.y`` the lateral wheel–rail force (N, in
+Names follow EN 14363: **Q** is the vertical wheel force, **Y** the lateral wheel–rail force.
+GB 5599 writes the vertical force P and the lateral force Q: its derailment coefficient Q/P is
+the derailment quotient Y/Q here, its wheel unloading rate ΔP/P is ΔQ/Q (:data:`CONVENTION`).
+
+Forces (flexride channels): ``wheelset<i>.<side>.force.z`` is the vertical wheel force Q (N,
+positive in compression), ``wheelset<i>.<side>.force.y`` the lateral wheel–rail force Y (N, in
 track y, left positive, exerted by the rail on the wheel).
 
 Quantities and limits
 ---------------------
-Derailment coefficient Q/P (GB 5599-1985 allowable limit 1.2)
-    Q is the lateral force *towards the track centre*: −F_y on the left wheel, +F_y on the right
+Derailment quotient Y/Q (GB 5599-1985 allowable limit 1.2 of its Q/P)
+    Y is the lateral force *towards the track centre*: −F_y on the left wheel, +F_y on the right
     wheel (the flange-climbing sense: the rail pushes the climbing wheel's flange inwards);
-    ``side=None`` uses |F_y|. P is floored at 1 % of its mean to keep the ratio finite during
+    ``side=None`` uses |F_y|. Q is floored at 1 % of its mean to keep the ratio finite during
     wheel lift (counted in ``notes``).
-Wheel unloading rate ΔP/P (GB 5599-1985 allowable limit 0.65)
-    ΔP/P = (P0 − P)/P0 with P0 the static wheel load; only unloading counts.
-Wheelset lateral force ΣY (EN 14363 Prud'homme limit 10 + P0/3 kN)
-    ΣY = F_y,left + F_y,right (kN), |ΣY| compared with 10 + P0/3, P0 the static axle load in kN.
+Wheel unloading ΔQ/Q (GB 5599-1985 allowable limit 0.65 of its ΔP/P)
+    ΔQ/Q = (Q0 − Q)/Q0 with Q0 the static wheel force; only unloading counts.
+Track-shifting force ΣY (EN 14363 Prud'homme limit 10 + 2Q0/3 kN)
+    ΣY = F_y,left + F_y,right (kN), |ΣY| compared with 10 + 2Q0/3, 2Q0 the static axle load in
+    kN (Prud'homme's P0).
 
 Processing (pinned, after the EN 14363 / UIC 518 table for (Y/Q)_2m and (ΣY)_2m)
     1. low pass at **20 Hz**: 4th-order Butterworth, forward–backward (zero phase);
-    2. Q/P and ΣY: **sliding mean over 2 m** of track, evaluated every **0.5 m** (window and
-       step converted to samples with the running speed); ΔP/P: no sliding mean (EN 14363
+    2. Y/Q and ΣY: **sliding mean over 2 m** of track, evaluated every **0.5 m** (window and
+       step converted to samples with the running speed); ΔQ/Q: no sliding mean (EN 14363
        evaluates the vertical force Q after the 20 Hz low pass only);
     3. assessed value: the **maximum** of the processed signal (GB 5599 compares the maximum;
        the EN 14363 statistic, the 99.85th percentile, is reported as ``p99_85``), compared
@@ -46,8 +51,10 @@ if TYPE_CHECKING:
     from flexride.results import Results
 
 __all__ = [
+    "CONVENTION",
     "SAFETY_DEFAULTS",
     "SAFETY_LIMITS",
+    "SAFETY_SYMBOLS",
     "RunningSafety",
     "SafetyIndex",
     "derailment_coefficient",
@@ -60,6 +67,20 @@ __all__ = [
 
 #: Limits of DESIGN §6.
 SAFETY_LIMITS = {"derailment_coefficient": 1.2, "wheel_unloading": 0.65}
+
+#: Symbol and name of each index for people (EN 14363 names: Q vertical, Y lateral), the one
+#: source of the CLI's tables and the dashboard (``symbol`` and ``title`` of every index).
+SAFETY_SYMBOLS: Final[dict[str, tuple[str, str]]] = {
+    "derailment_coefficient": ("Y/Q", "derailment quotient"),
+    "wheel_unloading": ("ΔQ/Q", "wheel unloading"),
+    "wheelset_lateral_force": ("ΣY", "track-shifting force"),
+}
+
+#: The force convention in one line, with GB 5599's names of the same quantities.
+CONVENTION: Final = ("EN 14363 names: Q vertical wheel force, Y lateral wheel force, derailment "
+                     "quotient Y/Q, wheel unloading ΔQ/Q, track-shifting force ΣY. GB 5599 writes "
+                     "P for the vertical and Q for the lateral force: its derailment coefficient "
+                     "Q/P is Y/Q, its wheel unloading rate ΔP/P is ΔQ/Q.")
 
 
 def nadal_limit(flange_angle_rad: float, friction: float) -> float:
@@ -124,6 +145,9 @@ class SafetyIndex:
         Where the limit comes from and how the signal was processed.
     times, series : numpy.ndarray or None
         The processed signal (only kept when requested).
+    symbol, title : str
+        For people: ``"Y/Q"`` and ``"derailment quotient"`` etc. (:data:`SAFETY_SYMBOLS`;
+        filled from ``name`` when not given).
     """
 
     name: str
@@ -140,6 +164,14 @@ class SafetyIndex:
     notes: list[str] = field(default_factory=list)
     times: np.ndarray | None = None
     series: np.ndarray | None = None
+    symbol: str = ""
+    title: str = ""
+
+    def __post_init__(self) -> None:
+        """Fill ``symbol`` and ``title`` from ``name`` when they are not given."""
+        symbol, title = SAFETY_SYMBOLS.get(self.name, (self.name, self.name.replace("_", " ")))
+        self.symbol = self.symbol or symbol
+        self.title = self.title or title
 
 
 @functools.lru_cache(maxsize=32)
@@ -201,33 +233,33 @@ def derailment_coefficient(
     step_m: float = SAFETY_DEFAULTS["step_m"],
     keep_series: bool = False,
 ) -> SafetyIndex:
-    """Derailment coefficient Q/P of one wheel (limit 1.2, GB 5599).
+    """Derailment quotient Y/Q of one wheel (limit 1.2, GB 5599's Q/P).
 
     Parameters
     ----------
     lateral_force : array_like
-        Lateral wheel–rail force F_y on the wheel in N (track y, left positive).
+        Lateral wheel–rail force Y = F_y on the wheel in N (track y, left positive).
     vertical_force : array_like
-        Vertical wheel load P in N (positive in compression).
+        Vertical wheel force Q in N (positive in compression).
     fs : float
         Sample rate in Hz.
     speed_mps : float
         Running speed in m/s (converts the 2 m window to samples).
     side : {"left", "right", None}
-        Wheel side: Q = −F_y (left) or +F_y (right), the force towards the track centre;
+        Wheel side: Y = −F_y (left) or +F_y (right), the force towards the track centre;
         None uses |F_y|.
     location : str
         Label, e.g. ``"wheelset1.left"``.
     lowpass_hz, window_m, step_m : float
         Processing (module docs).
     keep_series : bool
-        Keep the processed Q/P signal in the result.
+        Keep the processed Y/Q signal in the result.
     """
     fs = check_rate(fs)
     q = check_signal(lateral_force, fs, name="lateral force", ndim=(1,), min_samples=8,
-                     method="the derailment coefficient")
+                     method="the derailment quotient Y/Q")
     p = check_signal(vertical_force, fs, name="vertical force", ndim=(1,), min_samples=8,
-                     method="the derailment coefficient")
+                     method="the derailment quotient Y/Q")
     if q.shape != p.shape:
         raise AnalysisError("lateral and vertical force records differ in length")
     if side not in ("left", "right", None):
@@ -243,15 +275,15 @@ def _derailment_core(q_lp: np.ndarray, p_lp: np.ndarray, p_mean: float, fs: floa
     q_eff = -q_lp if side == "left" else q_lp if side == "right" else np.abs(q_lp)
     p_floor = 0.01 * abs(p_mean)
     if p_floor <= 0.0:
-        raise AnalysisError("vertical wheel load is zero on average: no derailment coefficient")
+        raise AnalysisError("vertical wheel force Q is zero on average: no derailment quotient")
     lift = int(np.count_nonzero(p_lp < p_floor))
     ratio = q_eff / np.maximum(p_lp, p_floor)
     t, s = _sliding_mean(ratio, fs, speed_mps, window_m, step_m)
-    notes = [f"wheel load below 1 % of its mean in {lift} sample(s) (floored)"] if lift else []
-    sense = {"left": "Q = −F_y (towards track centre)", "right": "Q = +F_y (towards track centre)",
-             None: "Q = |F_y|"}[side]
-    proc = (f"{sense}; {lowpass_hz:g} Hz Butterworth low pass (order 4, zero phase) on Q and P; "
-            f"Q/P sliding mean over {window_m:g} m every {step_m:g} m; maximum")
+    notes = [f"wheel force Q below 1 % of its mean in {lift} sample(s) (floored)"] if lift else []
+    sense = {"left": "Y = −F_y (towards track centre)", "right": "Y = +F_y (towards track centre)",
+             None: "Y = |F_y|"}[side]
+    proc = (f"{sense}; {lowpass_hz:g} Hz Butterworth low pass (order 4, zero phase) on Y and Q; "
+            f"Y/Q sliding mean over {window_m:g} m every {step_m:g} m; maximum")
     return _make_index("derailment_coefficient", location, t, s,
                        SAFETY_LIMITS["derailment_coefficient"], "-",
                        "GB 5599-1985 allowable limit (DESIGN §6)", proc, notes, keep_series)
@@ -267,14 +299,14 @@ def wheel_unloading(
     keep_series: bool = False,
     series_step_s: float | None = None,
 ) -> SafetyIndex:
-    """Wheel unloading rate ΔP/P = (P0 − P)/P0 of one wheel (limit 0.65, GB 5599).
+    """Wheel unloading ΔQ/Q = (Q0 − Q)/Q0 of one wheel (limit 0.65, GB 5599's ΔP/P).
 
     Parameters
     ----------
     vertical_force : array_like
-        Vertical wheel load P in N.
+        Vertical wheel force Q in N.
     static_load : float
-        Static wheel load P0 in N (> 0).
+        Static wheel force Q0 in N (> 0).
     fs : float
         Sample rate in Hz.
     location : str
@@ -288,7 +320,7 @@ def wheel_unloading(
     """
     fs = check_rate(fs)
     p = check_signal(vertical_force, fs, name="vertical force", ndim=(1,), min_samples=8,
-                     method="the wheel unloading rate")
+                     method="the wheel unloading ΔQ/Q")
     p0 = float(static_load)
     if not (math.isfinite(p0) and p0 > 0.0):
         raise AnalysisError(f"static wheel load must be positive (N), got {static_load!r}")
@@ -300,7 +332,7 @@ def _unloading_core(p_lp: np.ndarray, p0: float, fs: float, location: str, lowpa
                     keep_series: bool, series_step_s: float | None) -> SafetyIndex:
     rate = (p0 - p_lp) / p0
     t = np.arange(p_lp.size) / fs
-    proc = (f"ΔP/P = (P0 − P)/P0, P0 = {p0:.6g} N; {lowpass_hz:g} Hz Butterworth low pass "
+    proc = (f"ΔQ/Q = (Q0 − Q)/Q0, Q0 = {p0:.6g} N; {lowpass_hz:g} Hz Butterworth low pass "
             "(order 4, zero phase); maximum (unloading positive)")
     idx = _make_index("wheel_unloading", location, t, rate, SAFETY_LIMITS["wheel_unloading"],
                       "-", "GB 5599-1985 allowable limit (DESIGN §6)", proc, [], False)
@@ -316,7 +348,7 @@ def _unloading_core(p_lp: np.ndarray, p0: float, fs: float, location: str, lowpa
 
 
 def lateral_force_limit(static_axle_load: float) -> float:
-    """EN 14363 (Prud'homme) wheelset lateral force limit 10 + P0/3 in kN (P0 axle load in N)."""
+    """EN 14363 (Prud'homme) track-shifting force limit 10 + 2Q0/3 in kN (2Q0 axle load in N)."""
     return 10.0 + float(static_axle_load) / 1000.0 / 3.0
 
 
@@ -333,14 +365,14 @@ def wheelset_lateral_force(
     step_m: float = SAFETY_DEFAULTS["step_m"],
     keep_series: bool = False,
 ) -> SafetyIndex:
-    """Wheelset lateral force |ΣY| in kN against 10 + P0/3 kN (EN 14363).
+    """Track-shifting force |ΣY| of a wheelset in kN against 10 + 2Q0/3 kN (EN 14363).
 
     Parameters
     ----------
     lateral_force_left, lateral_force_right : array_like
         Lateral wheel–rail forces on the two wheels in N (track y).
     static_axle_load : float
-        Static axle load P0 in N.
+        Static axle load 2Q0 in N.
     fs : float
         Sample rate in Hz.
     speed_mps : float
@@ -354,9 +386,9 @@ def wheelset_lateral_force(
     """
     fs = check_rate(fs)
     yl = check_signal(lateral_force_left, fs, name="left lateral force", ndim=(1,),
-                      min_samples=8, method="the wheelset lateral force")
+                      min_samples=8, method="the track-shifting force ΣY")
     yr = check_signal(lateral_force_right, fs, name="right lateral force", ndim=(1,),
-                      min_samples=8, method="the wheelset lateral force")
+                      min_samples=8, method="the track-shifting force ΣY")
     if yl.shape != yr.shape:
         raise AnalysisError("left and right lateral force records differ in length")
     p0 = float(static_axle_load)
@@ -375,7 +407,7 @@ def _lateral_core(h: np.ndarray, p0: float, fs: float, speed_mps: float, locatio
             f"phase); sliding mean over {window_m:g} m every {step_m:g} m; maximum of |ΣY|")
     return _make_index("wheelset_lateral_force", location, t, np.abs(s),
                        lateral_force_limit(p0), "kN",
-                       f"EN 14363 limit 10 + P0/3 kN, P0 = {p0 / 1000:.4g} kN (DESIGN §6)",
+                       f"EN 14363 limit 10 + 2Q0/3 kN, 2Q0 = {p0 / 1000:.4g} kN (DESIGN §6)",
                        proc, [], keep_series)
 
 
@@ -397,7 +429,7 @@ class RunningSafety:
         What was skipped or floored.
     nadal : dict or None
         With real wheel profiles: the flange angle (``flange_angle_deg``), the friction
-        coefficient, Nadal's limit of Q/P for them and the largest Q/P of the run against it
+        coefficient, Nadal's limit of Y/Q for them and the largest Y/Q of the run against it
         (``worst``, ``utilisation``, ``location``); None for the conical tread (no flange
         angle).
     """
@@ -513,7 +545,7 @@ def running_safety(
 
 
 def _nadal_check(meta: dict[str, Any], indices: list[SafetyIndex]) -> dict[str, Any] | None:
-    """The run's largest Q/P against Nadal's limit for its wheel's flange angle and friction
+    """The run's largest Y/Q against Nadal's limit for its wheel's flange angle and friction
     (``meta["flange_angle_rad"]``, ``meta["friction"]``: written for real profiles).
     """
     angle, mu = meta.get("flange_angle_rad"), meta.get("friction")

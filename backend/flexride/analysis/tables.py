@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
+from flexride.analysis.safety import SAFETY_SYMBOLS
 from flexride.analysis.summary import ISO_WEIGHTINGS, Summary
 from flexride.errors import AnalysisError
 
@@ -116,23 +117,24 @@ def safety_table(summary: Summary | dict[str, Any]) -> Table | None:
     if not safety:
         return None
     table = Table(title="running safety", caption=(
-        "Q/P, ΔP/P: GB 5599 limits 1.2, 0.65 · ΣY: EN 14363 10 + P0/3 kN · 20 Hz low pass, "
-        "2 m sliding mean (Q/P, ΣY), maximum"))
+        "EN 14363 names: Q vertical, Y lateral wheel force (GB 5599: P vertical, Q lateral; its "
+        "Q/P = Y/Q, ΔP/P = ΔQ/Q) · Y/Q, ΔQ/Q: GB 5599 limits 1.2, 0.65 · ΣY: EN 14363 "
+        "10 + 2Q0/3 kN · 20 Hz low pass, 2 m sliding mean (Y/Q, ΣY), maximum"))
     columns: tuple[tuple[str, JustifyMethod], ...] = (
         ("location", "left"), ("quantity", "left"), ("value", "right"), ("limit", "right"),
         ("use", "right"), ("", "left"))
     for col, just in columns:
         table.add_column(col, justify=just)
-    label = {"derailment_coefficient": "Q/P", "wheel_unloading": "ΔP/P",
-             "wheelset_lateral_force": "ΣY kN"}
     for idx in safety["indices"]:
         use = idx.get("utilisation")
-        table.add_row(idx["location"], label.get(idx["name"], idx["name"]), _fmt(idx["value"]),
+        symbol = SAFETY_SYMBOLS.get(idx["name"], (idx["name"], ""))[0]
+        unit = "" if idx.get("unit") in (None, "-") else f" {idx['unit']}"
+        table.add_row(idx["location"], f"{symbol}{unit}", _fmt(idx["value"]),
                       _fmt(idx["limit"]), f"{use:.0%}" if use is not None else "–",
                       "[green]ok[/]" if idx["passed"] else "[bold red]exceeded[/]")
     nadal = safety.get("nadal")
     if nadal:
-        table.add_row(nadal["location"], f"Q/P (Nadal, γ {nadal['flange_angle_deg']:.1f}°, "
+        table.add_row(nadal["location"], f"Y/Q (Nadal, γ {nadal['flange_angle_deg']:.1f}°, "
                       f"μ {nadal['friction']:.2f})", _fmt(nadal["worst"]), _fmt(nadal["limit"]),
                       f"{nadal['utilisation']:.0%}",
                       "[green]ok[/]" if nadal["passed"] else "[bold red]exceeded[/]")

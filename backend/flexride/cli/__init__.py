@@ -18,6 +18,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
 
+from flexride.cli.tables import fit_table, points_legend
 from flexride.errors import FlexrideError, ScenarioError
 from flexride.scenario.loading import parse_text
 
@@ -107,6 +108,7 @@ def run_summary(results, write_s: float | None = None) -> dict[str, Any]:
         comfort = {"error": str(exc)}
     analyze_s = time.perf_counter() - t_analyze
     from flexride.results import run_timings
+
     return {
         "scenario": results.scenario.get("name"),
         "speed_kmh": results.meta.get("speed_kmh"),
@@ -131,7 +133,19 @@ def _print_summary(summary: dict[str, Any]) -> None:
     table.add_column("peak (m/s²)", justify="right")
     for r in summary["accelerations"]:
         table.add_row(r["body"], r["point"], r["direction"], f"{r['rms']:.4f}", f"{r['peak']:.4f}")
-    console.print(table)
+    console.print(fit_table(table, console))
+
+
+def _print_analysis(comfort: Any, points: list[dict[str, Any]]) -> None:
+    """The comfort table with the legend of its points, then the running-safety table."""
+    from flexride.analysis import safety_table, summary_table
+
+    console.print(fit_table(summary_table(comfort), console))
+    names = list(comfort["points"] if isinstance(comfort, dict) else comfort.points)
+    console.print(points_legend(points, names))
+    safety = safety_table(comfort)
+    if safety is not None:
+        console.print(fit_table(safety, console))
 
 
 @app.command()
@@ -186,12 +200,7 @@ def run(
     else:
         _print_summary(summary)
         if summary["comfort"] and "error" not in summary["comfort"]:
-            from flexride.analysis import safety_table, summary_table
-
-            console.print(summary_table(summary["comfort"]))
-            safety = safety_table(summary["comfort"])
-            if safety is not None:
-                console.print(safety)
+            _print_analysis(summary["comfort"], results.recorded_points)
         console.print(
             f"results written to [bold]{path}[/] (solver {summary['wall_time_solve_s']:.2f} s wall)"
         )
@@ -215,7 +224,7 @@ def presets(as_json: Annotated[bool, typer.Option("--json")] = False) -> None:
     table.add_column("description")
     for r in rows:
         table.add_row(r["name"], f"{r['speed_kmh']:g}", r["description"])
-    console.print(table)
+    console.print(fit_table(table, console))
 
 
 @app.command()
@@ -236,7 +245,6 @@ def analyze(
 
     try:
         from flexride.analysis import analyze as analyze_results
-        from flexride.analysis import safety_table, summary_table
 
         results = Results.read_hdf5(results_file)
         summary = analyze_results(results)
@@ -245,10 +253,7 @@ def analyze(
     if as_json:
         typer.echo(json.dumps(summary.to_dict(), indent=2, default=float))
     else:
-        console.print(summary_table(summary))
-        safety = safety_table(summary)
-        if safety is not None:
-            console.print(safety)
+        _print_analysis(summary, results.recorded_points)
 
 
 def _register_subcommands() -> None:
