@@ -72,7 +72,8 @@ def fe_model(
     names, units and ranges). 200 when the export exists; else its build is a job of kind
     ``fe_export`` run by the service's workers (one job per parameter set, however often it
     is asked for) and the answer is 202 with ``Retry-After`` and the job's state: the first
-    build of the 0.2 m car body takes about a minute, a body already in the FE cache a
+    build of the 0.2 m car body takes about a minute of computing (51 s CPU measured; several
+    minutes of wall time on a busy machine), a body already in the FE cache a
     fraction of a second. Builds beyond the service's limits (``FLEXRIDE_MAX_FE_DOFS``,
     ``FLEXRIDE_MAX_FE_CUTOFF_HZ``) are refused with 422 naming the parameter.
     """

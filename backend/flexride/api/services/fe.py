@@ -47,7 +47,8 @@ log = logging.getLogger(__name__)
 RETRY_AFTER_S = 3
 #: Job kind of the FE export builds.
 FE_KIND = "fe_export"
-_FIRST_TIME = "first time only; about a minute for the 0.2 m car body"
+_FIRST_TIME = ("first time only; about a minute of computing for the 0.2 m car body, several "
+               "minutes on a busy machine")
 
 
 @dataclass
