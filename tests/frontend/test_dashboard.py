@@ -143,7 +143,11 @@ def test_form_shows_the_units_of_the_schema(page, server):
 
 def test_yaml_editor_reads_a_preset_based_file(page, server):
     goto(page, "/new")
+    # the form is built from the schema: click the tab once it is (timed out once in a full
+    # run in Firefox, the editor not shown)
+    page.locator("#f-speed_kmh").wait_for()
     page.get_by_role("tab", name="YAML / JSON").click()
+    page.locator("#scenario-text").wait_for(state="visible")
     page.fill(
         "#scenario-text",
         "preset: paper-random-straight-60\nduration_s: 2\ndistance_m: null\n"
