@@ -218,7 +218,8 @@ def _profile_flags(resp: ResponseSpectra, sigma: dict[str, float]) -> list[str]:
                 abs(equiv), abs(local)):
             flags.append(f"{key.rsplit('.', 1)[0]}: contact geometry not linear over the "
                          f"wheelset's motion: local conicity {local:.3f} at Δy = "
-                         f"{round(y0 * 1e3, 2) + 0.0:.2f} mm, equivalent conicity {equiv:.3f} at ŷ = √2·σ = "
+                         f"{round(y0 * 1e3, 2) + 0.0:.2f} mm, equivalent conicity "
+                         f"{equiv:.3f} at ŷ = √2·σ = "
                          f"{amp * 1e3:.1f} mm (EN 15302, first harmonic): the lateral estimate "
                          "is doubtful")
     return flags
