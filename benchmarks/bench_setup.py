@@ -15,7 +15,7 @@ the machine inflates the wall times (the load average is printed). Repeats take 
 
 Usage::
 
-    .venv/bin/python benchmarks/bench_setup.py [--repeat 3] [--real-profiles]
+    .venv/bin/python benchmarks/bench_setup.py [--repeat 3] [--conical]
 """
 
 from __future__ import annotations
@@ -55,17 +55,17 @@ def _setup_time(scenario, vehicle, cache) -> tuple[float, float, str]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--real-profiles", action="store_true",
-                    help="with flexride.scenario.presets.REAL_PROFILES (the presets' own "
-                    "contact otherwise)")
+    ap.add_argument("--conical", action="store_true",
+                    help="with flexride.scenario.presets.CONICAL_TREAD (the presets' own real "
+                    "profiles otherwise)")
     args = ap.parse_args()
 
-    from flexride.scenario.presets import REAL_PROFILES, load_preset
+    from flexride.scenario.presets import CONICAL_TREAD, load_preset
     from flexride.solver.assemble import vehicle_for
     from flexride.solver.setup_cache import SetupCache
     from flexride.solver.simulate import simulate
 
-    extra = dict(REAL_PROFILES) if args.real_profiles else {}
+    extra = dict(CONICAL_TREAD) if args.conical else {}
     base = {**extra, "duration_s": 20.0, "distance_m": None}
     geometry = load_preset("paper-metro", extra).contact.geometry
     print(f"flexride set-up benchmark (contact geometry {geometry}); {_load()}")
