@@ -447,13 +447,21 @@ def test_every_form_field_has_its_unit_and_help(page, server, preset):
 
 def test_fe_build_wait_shows_progress_and_estimate(page, server, coarse_build):
     page.goto(f"/#/flex?element_size_m={coarse_build}")
-    note = page.locator("#fe-building")
-    note.wait_for(timeout=30_000)
-    text = note.inner_text()
+    # Read the note in the same instant it is seen: a coarse build may end (and the note
+    # go) between two separate browser round trips.
+    seen = page.wait_for_function(
+        """() => {
+            const note = document.querySelector('#fe-building');
+            return note && {text: note.innerText,
+                            bars: note.querySelectorAll('[role=progressbar]').length};
+        }""",
+        timeout=30_000,
+    ).json_value()
+    text = seen["text"]
     assert "first time only" in text and re.search(r"\d+(\.\d)? s so far", text)
     if "Waiting for a free worker" not in text:
         assert re.search(r"about (\d+ min )?[\d.]+ s in all", text)
-        assert note.get_by_role("progressbar").count() == 1
+        assert seen["bars"] == 1
     page.wait_for_selector("#plot-mesh .plot[data-state=ready]", timeout=180_000)
 
 
