@@ -53,18 +53,19 @@ def _peak_rss_mib(duration_s: float) -> float:
     """Peak resident memory (MiB) of a fresh process that runs the reference case rigid for
     ``duration_s`` (import, compiled kernels from the cache, run, no file written).
     """
-    import resource
-
+    # The child reports its own peak (RUSAGE_SELF): RUSAGE_CHILDREN in this process is the
+    # largest peak of every child waited for so far, the cold-compile child's included.
     code = (
+        "import resource;"
         "from flexride.scenario.presets import load_preset;"
         "from flexride.solver.simulate import simulate;"
         f"simulate(load_preset('paper-metro-random', {{'duration_s': {duration_s}, "
-        "'solver.dt': 1e-4}))"
+        "'solver.dt': 1e-4}));"
+        "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
     )
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    return max(after, before) / 1024.0
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True,
+                         text=True).stdout
+    return int(out.split()[-1]) / 1024.0  # ru_maxrss is in KiB on Linux
 
 
 def _part_timings(asm, X0, s0, n=20000, repeats=3):

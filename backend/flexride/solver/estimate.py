@@ -14,7 +14,7 @@ from flexride.solver.assemble import channel_layout, output_rate_for
 from flexride.vehicle.topology import build_vehicle, carbody_output_points
 
 BYTES_PER_SAMPLE = 8
-"""Bytes of one recorded value (float64, as held in memory before compression)."""
+"""Bytes of one recorded value (float64, in memory and in the uncompressed results file)."""
 
 
 @dataclass(frozen=True)
@@ -32,8 +32,8 @@ class RunEstimate:
     samples : int
         Recorded samples per channel.
     result_bytes : int
-        Recorded values × 8 bytes: the memory of the results before they are written (the
-        file is smaller, compressed).
+        Recorded values × 8 bytes: the memory of the results and, within the few kB of
+        metadata, the size of the results file.
     """
 
     steps: int
