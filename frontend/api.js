@@ -58,8 +58,9 @@ function authHeaders() {
 /**
  * Fetch JSON from the API.
  * @param {string} path path below /api/v1 (or absolute when it starts with /api)
- * @param {{method?: string, body?: any, params?: object, signal?: AbortSignal, timeout?: number,
- *   withStatus?: boolean}} opts with `withStatus`, a success resolves to
+ * @param {{method?: string, body?: any, raw?: Blob|ArrayBuffer, contentType?: string,
+ *   params?: object, signal?: AbortSignal, timeout?: number, withStatus?: boolean}} opts
+ *   `body` is sent as JSON, `raw` as it is (an upload); with `withStatus`, a success resolves to
  *   {status, body, retryAfter} (for endpoints that answer 202 while they work)
  */
 export async function request(path, opts = {}) {
@@ -68,6 +69,9 @@ export async function request(path, opts = {}) {
   if (opts.body !== undefined) {
     init.body = JSON.stringify(opts.body);
     init.headers["Content-Type"] = "application/json";
+  } else if (opts.raw !== undefined) { // uploaded data (a file's bytes), sent as they are
+    init.body = opts.raw;
+    init.headers["Content-Type"] = opts.contentType || "application/octet-stream";
   }
   if (init.method !== "GET") Object.assign(init.headers, authHeaders());
   const ctrl = new AbortController();
@@ -140,6 +144,9 @@ export const api = {
   correlation: (id, params, o) =>
     request(`/jobs/${encodeURIComponent(id)}/correlation`, { params, ...o }),
   downloadUrl: (id) => `${API}/jobs/${encodeURIComponent(id)}/download`,
+
+  // a wheel or rail profile file: params {format: its extension, kind: "wheel" | "rail"}
+  uploadProfile: (raw, params, o) => request("/profiles", { method: "POST", raw, params, ...o }),
 
   studies: (params, o) => request("/studies", { params, ...o }),
   study: (id, o) => request(`/studies/${encodeURIComponent(id)}`, o),

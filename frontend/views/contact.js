@@ -55,12 +55,14 @@ function makeField(f, schema, value) {
   const help = h("p", { class: "help", id: `${id}-help` }, schema.description || "", rangeText(schema));
   const described = `${id}-help ${id}-err`;
   let input;
+  let fileIn = null; // a profile field's file chooser (an upload to POST /profiles)
   if (f.control === "select") {
     input = h("select", { id, "aria-describedby": described }, (schema.enum || []).map((v) => h("option", { value: v, selected: v === value }, v)));
   } else if (f.control === "check") {
     input = h("input", { id, type: "checkbox", checked: String(value) !== "false", "aria-describedby": described });
   } else if (f.control === "profile") {
     input = h("input", { id, type: "text", value, list: `${id}-list`, autocomplete: "off", spellcheck: "false", "aria-describedby": described });
+    fileIn = h("input", { id: `${id}-file`, type: "file", class: "sr-only", "aria-describedby": described });
   } else {
     // a text input, as the scenario form's numbers (the service checks the range)
     input = h("input", { id, type: "text", inputmode: "decimal", value: String(value), autocomplete: "off", spellcheck: "false", "aria-describedby": described });
@@ -68,10 +70,32 @@ function makeField(f, schema, value) {
   const unit = f.unit ? h("span", { class: "unit" }, f.unit) : null;
   const el = f.control === "check"
     ? h("div", { class: "field" }, h("label", { class: "check", for: id }, input, f.label), help, err)
-    : h("div", { class: "field" }, h("label", { for: id }, f.label), h("div", { class: "input-row" }, input, unit), help, err,
-      f.control === "profile" ? h("datalist", { id: `${id}-list` }, h("option", { value: f.builtin })) : null);
+    : h("div", { class: "field" }, h("label", { for: id }, f.label),
+      h("div", { class: "input-row" }, input, unit),
+      fileIn ? h("div", { class: "upload-row" }, h("label", { for: fileIn.id, class: "btn btn-small", title: `Upload a ${f.name} profile file (SIMPACK, MiniProf or y, z text in mm); the service stores it and the field takes its id` }, `Upload a ${f.name} file…`), fileIn) : null,
+      help, err, fileIn ? h("datalist", { id: `${id}-list` }, h("option", { value: f.builtin })) : null);
   const read = () => (f.control === "check" ? String(input.checked) : input.value.trim());
-  return { ...f, el, input, err, read };
+  return { ...f, el, input, err, help, fileIn, read };
+}
+
+/** The upload endpoint's file formats (extensions without the dot), from the OpenAPI document. */
+async function uploadFormats() {
+  const spec = await api.openapi();
+  const param = (spec?.paths?.["/api/v1/profiles"]?.post?.parameters || []).find((p) => p.name === "format");
+  return param?.schema?.enum || [];
+}
+
+/**
+ * Upload `file` as a profile of the field's kind (wheel or rail): the service checks it with the
+ * CLI's readers and stores it by content hash. Resolves to the stored profile's facts; a refused
+ * file rejects with the service's error (its message names the line).
+ */
+async function uploadProfile(field, file, formats, signal) {
+  const format = (file.name.match(/\.([^.]+)$/)?.[1] || "").toLowerCase();
+  if (!formats.includes(format)) {
+    throw new Error(`${file.name}: not a profile file the service reads (extensions: ${formats.map((x) => `.${x}`).join(", ")})`);
+  }
+  return api.uploadProfile(await file.arrayBuffer(), { format, kind: field.name }, { signal, timeout: 60000 });
 }
 
 /** Points of the left wheel at row i (the rigid motion of the answer's `profiles`). */
@@ -295,6 +319,29 @@ export default async function render(main, ctx) {
     }
   }
 
+  /** Upload the chosen file of a profile field, put its id in the field and compute again. */
+  async function uploadInto(f) {
+    const file = f.fileIn.files?.[0];
+    f.fileIn.value = ""; // the same file may be chosen again after a fix
+    if (!file) return;
+    clearErrors();
+    setChildren(formMsg, loading(`Uploading ${file.name}…`));
+    try {
+      const info = await uploadProfile(f, file, await uploadFormats(), ctx.signal);
+      if (ctx.signal.aborted) return;
+      f.input.value = info.id;
+      f.el.querySelector("datalist")?.append(h("option", { value: info.id, label: file.name }));
+      setChildren(f.help, `Uploaded ${file.name}: ${info.kind} profile, ${info.format} format, ${info.points} points; used by its id ${info.id.slice(0, 12)}…`);
+      compute();
+    } catch (err) {
+      if (ctx.signal.aborted) return;
+      setChildren(formMsg);
+      f.err.textContent = err?.items?.length ? err.items.map((it) => it.msg).join("; ") : err.message;
+      f.input.setAttribute("aria-invalid", "true");
+    }
+  }
+
+  for (const f of state.fields) f.fileIn?.addEventListener("change", () => uploadInto(f));
   slider.addEventListener("input", () => { if (state.data) moveTo(Number(slider.value)); });
   formEl.addEventListener("submit", (e) => {
     e.preventDefault();

@@ -10,6 +10,10 @@ from __future__ import annotations
 import re
 from typing import Any
 
+import pytest
+
+from contact.profile_data import mbench_file
+
 PLOTS = ("#plot-contact-section", "#plot-contact-dr", "#plot-contact-conicity")
 
 
@@ -94,3 +98,44 @@ def test_contact_view_shows_a_refused_parameter_at_its_field(page, server):
     page.click("#contact-apply")
     fb.wait_for(state="hidden")
     assert page.locator("#contact-flange_back_mm").get_attribute("aria-invalid") is None
+
+
+def test_an_uploaded_wheel_file_is_used_by_its_id(page, server, wait_plot):
+    """CONTACT's S1002 file (the Manchester benchmark's, equal to EN 13715 within 1e-5 mm)
+    uploaded from the wheel field: the field takes the stored id and the view recomputes with
+    it, so the equivalent conicity equals the built-in S1002's (an independent copy of the same
+    profile: a wrong orientation, unit or mirroring of the upload would change it)."""
+    page.goto("/#/contact")
+    wait_plot(page, "#plot-contact-conicity")
+    builtin = page.eval_on_selector("#plot-contact-conicity .plot", "e => e.data[0].y")
+    note0 = page.locator("#plot-contact-section .plot-note").inner_text()
+    page.set_input_files("#contact-wheel-file", str(mbench_file("MBench_S1002_v3.prw")))
+    page.wait_for_function(
+        "() => /^[0-9a-f]{64}$/.test(document.querySelector('#contact-wheel').value)")
+    assert "MBench_S1002_v3.prw: wheel profile, prw format" in page.locator(
+        "#contact-wheel-help").inner_text()
+    page.wait_for_function(  # the drawing is the answer for the uploaded wheel
+        "note => document.querySelector('#plot-contact-section .plot-note')?.textContent !== note"
+        " && location.hash.includes('wheel=')", arg=note0, timeout=30_000)
+    wait_plot(page, "#plot-contact-conicity")
+    uploaded = page.eval_on_selector("#plot-contact-conicity .plot", "e => e.data[0].y")
+    assert len(uploaded) == len(builtin)
+    assert uploaded == pytest.approx(builtin, rel=2e-3, abs=1e-4)
+
+
+def test_a_refused_profile_file_is_shown_at_its_field(page, server, tmp_path):
+    page.console_log.allow(r"status of 422")  # the service's answer to the bad file
+    page.goto("/#/contact")
+    page.wait_for_selector("#plot-contact-section .plot[data-state=ready]")
+    bad = tmp_path / "worn.txt"
+    bad.write_text("0 0\n1 0.1\nnan 0.2\n3 0.3\n")
+    page.set_input_files("#contact-rail-file", str(bad))
+    err = page.locator("#contact-rail-err")
+    err.wait_for(state="visible")
+    assert "line 3" in err.inner_text()
+    assert page.locator("#contact-rail").get_attribute("aria-invalid") == "true"
+    assert page.locator("#contact-rail").input_value() == "60e1"  # the field keeps its profile
+    # a wheel file given as a rail is refused by its kind, at the same field
+    page.set_input_files("#contact-rail-file", str(mbench_file("MBench_S1002_v3.prw")))
+    page.wait_for_function("() => document.querySelector('#contact-rail-err').textContent"
+                           ".includes('wheel')")

@@ -22,10 +22,10 @@ router = APIRouter(prefix="/profiles", tags=["uploads"])
 
 UploadId = Annotated[str, Path(pattern=r"^[0-9a-f]{64}$",
                                description="Upload id: SHA-256 of the content")]
+_FORMATS = [ext[1:] for ext in PROFILE_EXTENSIONS]
 Format = Annotated[str, Query(
-    pattern="^(" + "|".join(ext[1:] for ext in PROFILE_EXTENSIONS) + ")$",
-    description="File format by its extension: "
-    + ", ".join(ext[1:] for ext in PROFILE_EXTENSIONS))]
+    pattern="^(" + "|".join(_FORMATS) + ")$", json_schema_extra={"enum": _FORMATS},
+    description="File format by its extension: " + ", ".join(_FORMATS))]
 Kind = Annotated[Literal["wheel", "rail"] | None, Query(
     description="wheel or rail; implied by prw/whl (wheel) and prr/ban (rail), needed for "
     "txt and csv")]
