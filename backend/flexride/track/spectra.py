@@ -58,7 +58,6 @@ from typing import NamedTuple
 
 import numpy as np
 from scipy import fft as sp_fft
-from scipy import integrate, signal
 
 from flexride.errors import ScenarioError
 from flexride.scenario.excitation import IRREGULARITY_COMPONENTS
@@ -197,6 +196,8 @@ def band_rms(
         raise ScenarioError(
             f"need 0 < wavelength_min < wavelength_max, got {wavelength_min} m, {wavelength_max} m"
         )
+    from scipy import integrate  # on use: a run's import stays light (docs/architecture.md)
+
     value, _ = integrate.quad(
         lambda om: float(german_psd(om, component, level, half_gauge)),
         2.0 * math.pi / wavelength_max,
@@ -240,6 +241,8 @@ def spatial_psd(
     if nperseg is None:
         nperseg = max(16, 2 ** math.floor(math.log2(max(x.size // 4, 1))))
     nperseg = min(int(nperseg), x.size)
+    from scipy import signal  # on use: scipy.signal imports scipy.stats (≈ 250 ms, memory)
+
     f, g = signal.welch(x, fs=1.0 / ds, nperseg=nperseg, detrend="constant")
     # G(f) df = S(Ω) dΩ with Ω = 2πf
     return 2.0 * math.pi * f, g / (2.0 * math.pi)
