@@ -1,7 +1,8 @@
 // Instant estimate: the frequency-domain comfort estimate (POST /api/v1/estimates) of the scenario
-// being edited, asked again ~400 ms after each change (the request before is aborted). A scenario
-// the linear estimate does not hold for (422: flange contact, a transient excitation …), an FE
-// model not built yet (409) or a busy service (503) is a note in the panel, never a form error.
+// being edited, asked again ~400 ms after each change (the request before is aborted). Whether the
+// estimate applies is the service's answer (`refusal: "answer"`: 200 with applicable false and the
+// reason for flange contact, a transient excitation, no random irregularity …); that, an FE model
+// not built yet (409) or a busy service (503) is a note in the panel, never a form error.
 
 import { loadPaperPoints, pointCatalogue, pointTag } from "./points.js";
 import { request } from "../api.js";
@@ -61,14 +62,6 @@ function failureNote(err) {
   return notice("warn", null, `No estimate: ${reason}`);
 }
 
-/** The server's "no track spectra" refusal, known without asking: no random irregularity. */
-function withoutRandom(sc) {
-  const kinds = (Array.isArray(sc?.excitation) ? sc.excitation : []).map((e) => e?.kind);
-  if (kinds.includes("random")) return null;
-  const what = kinds.length ? `excitation ${kinds.join(", ")}` : "no excitation";
-  return `No linear estimate: the scenario has no random irregularity (${what}); the frequency-domain estimate covers random irregularities only – run the job (time domain).`;
-}
-
 /**
  * The panel. `getScenario()` gives the scenario to estimate; call `schedule()` after each
  * change. While `invalidFields()` counts fields the form marks as invalid, the panel waits
@@ -102,19 +95,15 @@ export function estimatePanel(getScenario, signal, invalidFields = () => 0) {
       refused(notice("info", null, `The estimate waits for the form: ${bad} field${bad > 1 ? "s" : ""} marked.`), "waiting");
       return;
     }
-    const why = withoutRandom(sc);
-    if (why) {
-      refused(notice("warn", null, why));
-      return;
-    }
     ctrl = new AbortController();
     const t0 = performance.now();
     setState("loading", "Estimating…");
     body.classList.add("stale");
     try {
-      const res = await request(PATH, { method: "POST", body: { scenario: sc }, signal: ctrl.signal, timeout: 60000 });
+      const res = await request(PATH, { method: "POST", body: { scenario: sc, refusal: "answer" }, signal: ctrl.signal, timeout: 60000 });
       if (my !== seq) return;
-      show(res, (performance.now() - t0) / 1000);
+      if (res.applicable === false) refused(notice("warn", null, `No linear estimate: ${res.reasons?.[0]?.msg || res.message}`));
+      else show(res, (performance.now() - t0) / 1000);
     } catch (err) {
       if (my !== seq || err?.name === "AbortError" || signal?.aborted) return;
       refused(failureNote(err), err.status === 422 ? "refused" : "error");

@@ -188,7 +188,8 @@ export function spectrumPlot(opts) {
 
   /**
    * @param {Source[]} sources
-   * @param {{fmax?: number, segment_s?: number, dynamic?: boolean, log?: boolean, logx?: boolean, peaks?: number}} p
+   * @param {{fmax?: number, segment_s?: number, dynamic?: boolean, log?: boolean, logx?: boolean, peaks?: number, extra?: object[]}} p
+   *   `extra`: more traces in the same units drawn over the spectra (e.g. an estimate)
    */
   async function set(sources, p = {}) {
     if (!sources.length) {
@@ -235,11 +236,13 @@ export function spectrumPlot(opts) {
         };
       }).filter(Boolean);
       const annotations = placeLabels(wanted, traces, { log, logx: !!p.logx, height: card.plotEl.clientHeight || 300, width: card.plotEl.clientWidth || 800 });
-      lastTraces = traces;
       if (!traces.length) {
+        lastTraces = traces;
         card.empty("None of the chosen channels is in the results.");
         return;
       }
+      traces.push(...(p.extra || []));
+      lastTraces = traces;
       const yTitle = opts.kind === "psd" ? `PSD (${prettyUnit(unit)})` : `Amplitude (${prettyUnit(unit)})`;
       await card.draw(traces, baseLayout("Frequency (Hz)", yTitle, {
         annotations, hovermode: "x",

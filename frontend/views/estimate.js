@@ -110,6 +110,111 @@ function traces(data, y, label) {
   ];
 }
 
+/** Indices of the floor map: key, label, direction, index in the answer (unit from `units`). */
+const FLOOR_INDICES = [
+  ["sz", "Sperling index W vertical (z)", "z", "sperling"],
+  ["sy", "Sperling index W lateral (y)", "y", "sperling"],
+  ["awz", "ISO 2631 a_w vertical (z)", "z", "iso2631"],
+  ["awy", "ISO 2631 a_w lateral (y)", "y", "iso2631"],
+  ["rz", "rms acceleration vertical (z)", "z", "rms"],
+  ["ry", "rms acceleration lateral (y)", "y", "rms"],
+  ["nmv", "EN 12299 mean comfort N_MV", null, "nmv"],
+];
+
+/** The [y][x] values, label and unit of one floor-map index. */
+function floorValues(fm, key) {
+  const [, label, dir, index] = FLOOR_INDICES.find(([k]) => k === key);
+  const z = dir ? fm.indices[dir][index] : fm.nmv;
+  const unit = fm.units[index] === "-" ? "–" : "m/s²";
+  const weight = index === "iso2631" ? ` (${fm.weightings[dir]})` : "";
+  return { z, label: `${label}${weight}`, unit };
+}
+
+/** A heatmap of the floor map with the scenario's floor points (the paper's) marked. */
+function floorTraces(fm, v) {
+  return [
+    { type: "heatmap", x: fm.x_m, y: fm.y_m, z: v.z, colorscale: "YlOrRd", reversescale: true, zsmooth: fm.y_m.length > 1 ? "best" : false,
+      colorbar: { title: { text: v.unit } }, hovertemplate: `x = %{x:.2f} m, y = %{y:.2f} m<br>${v.label}: %{z:.3f} ${v.unit}<extra></extra>` },
+    { type: "scatter", mode: "markers+text", name: "floor points", x: fm.points.map((p) => p.x), y: fm.points.map((p) => p.y),
+      text: fm.points.map((p) => p.name), textposition: "top center", customdata: fm.points.map((p) => p.description),
+      marker: { color: "#0b4f8a", size: 9, symbol: "x" }, hovertemplate: "%{customdata}<br>x = %{x:.2f} m, y = %{y:.2f} m<extra></extra>" },
+  ].filter((t) => t.type === "heatmap" || fm.points.length);
+}
+
+/**
+ * The comfort map over the car body's floor (POST /estimates with `floor_map`) of the form's
+ * preset and overrides: one request per scenario and spacing, any index drawn from the answer.
+ * `base()` gives {preset, overrides} or null.
+ */
+function floorMapCard(base, signal) {
+  const spacing = h("input", { type: "number", id: "floor-spacing", value: "1", min: "0.2", max: "5", step: "0.1", style: { width: "6em" } });
+  const spacingErr = h("span", { class: "field-error from-server", id: "floor-spacing-err", "aria-live": "polite" });
+  const indexSel = select(FLOOR_INDICES.map(([k, l]) => [k, l]), "sz");
+  Object.assign(indexSel, { id: "floor-index" });
+  const card = plotCard({ title: "Comfort over the floor", id: "plot-floor-map", height: 300, csvName: "estimate-floor-map",
+    description: "Estimated comfort index over the car body's floor grid, the paper's floor points marked", csv: () => csvOf() });
+  card.setControls(h("div", { class: "controls" },
+    h("label", { for: "floor-spacing" }, "Grid spacing (m)", spacing, spacingErr),
+    h("label", { for: "floor-index" }, "Index", indexSel)));
+  const state = { data: null, ctrl: null, seq: 0, key: null };
+
+  function csvOf() {
+    const fm = state.data;
+    if (!fm) return null;
+    const v = floorValues(fm, indexSel.value);
+    return { header: ["point", "x (m)", "y (m)", `${v.label} (${v.unit})`], rows: fm.names.flatMap((row, j) => row.map((n, i) => [n, fm.x_m[i], fm.y_m[j], v.z[j][i]])) };
+  }
+
+  async function draw() {
+    const fm = state.data;
+    if (!fm) return;
+    const v = floorValues(fm, indexSel.value);
+    await card.draw(floorTraces(fm, v), baseLayout("Position along the car body x (m, forward +)", "Across y (m, left +)", {
+      yaxis: { scaleanchor: "x", scaleratio: 1 }, showlegend: false }));
+    const flat = v.z.flat().filter((x) => x !== null);
+    card.setNote(`${v.label} on the floor grid (${flat.length} points, ${fmt(fm.spacing_m)} m apart), range ${fmt(Math.min(...flat), 3)}–${fmt(Math.max(...flat), 3)} ${v.unit}; × the scenario's floor points. Frequency-domain estimate.`);
+  }
+
+  async function compute() {
+    const b = base();
+    const key = JSON.stringify([b, spacing.value]);
+    if (!b || (key === state.key && state.data)) return; // the same map
+    state.key = key;
+    const my = ++state.seq;
+    state.ctrl?.abort();
+    state.ctrl = new AbortController();
+    spacingErr.textContent = "";
+    spacing.removeAttribute("aria-invalid");
+    card.loading("Mapping the floor…");
+    try {
+      const body = { ...b, points: ["PC"], floor_map: { spacing_m: Number(spacing.value) }, refusal: "answer" };
+      const res = await request("/estimates", { method: "POST", body, signal: state.ctrl.signal, timeout: 60000 });
+      if (my !== state.seq || signal.aborted) return;
+      if (res.applicable === false) {
+        state.data = null;
+        card.empty(`No linear estimate: ${res.message}`);
+        return;
+      }
+      state.data = res.floor_map;
+      await draw();
+    } catch (err) {
+      if (my !== state.seq || signal.aborted || err?.name === "AbortError") return;
+      state.data = null;
+      const at = err.items?.find((i) => (i.loc || []).join(".").endsWith("floor_map.spacing_m"));
+      if (at) {
+        spacingErr.textContent = at.msg;
+        spacing.setAttribute("aria-invalid", "true");
+        card.empty("Choose another spacing.");
+      } else card.error(err, "No floor map");
+    }
+  }
+  spacing.addEventListener("change", compute);
+  spacing.addEventListener("keydown", (e) => { if (e.key === "Enter") compute(); });
+  indexSel.addEventListener("change", draw);
+  signal.addEventListener("abort", () => state.ctrl?.abort(), { once: true });
+  return { el: card.el, compute };
+}
+
 export default async function render(main, ctx) {
   loadPlotly().catch(() => {});
   ctx.title("Estimate");
@@ -154,11 +259,18 @@ export default async function render(main, ctx) {
     h("label", { for: "est-point" }, "Point", Object.assign(pointSel, { id: "est-point" })),
     h("label", { for: "est-direction" }, "Direction", Object.assign(dirSel, { id: "est-direction" })),
     h("label", { for: "est-index" }, "Index", Object.assign(indexSel, { id: "est-index" }))));
+  const floor = floorMapCard(() => {
+    try {
+      return { preset: F.preset.input.value, overrides: parseOverrides(F.overrides.input.value) };
+    } catch {
+      return null; // marked by the sweep's check
+    }
+  }, ctx.signal);
   setChildren(main, h("h1", {}, "Estimate"),
     h("p", { class: "muted small" }, "Comfort indices from the linearised vehicle–track model driven by the track spectra (", h("code", {}, "flexride estimate"), "), in about a second, for a sweep of any one scenario field; a time-domain job is the check."),
     h("div", { class: "three" },
       h("section", { class: "card", "aria-labelledby": "est-form-title" }, h("h2", { id: "est-form-title", class: "h3" }, "Scenario and sweep"), formEl),
-      h("div", {}, card.el)));
+      h("div", {}, card.el, floor.el)));
 
   const state = { data: null, seq: 0, ctrl: null };
   const selection = () => ({ point: pointSel.value, direction: dirSel.value, index: indexSel.value });
@@ -265,10 +377,12 @@ export default async function render(main, ctx) {
     }
   }
 
-  const later = debounce(compute, 400);
+  const later = debounce(() => { compute(); floorLater(); }, 400);
+  const floorLater = debounce(floor.compute, 50);
   formEl.addEventListener("submit", (e) => {
     e.preventDefault();
     compute();
+    floor.compute();
   });
   formEl.addEventListener("change", later);
   F.parameter.input.addEventListener("input", () => {
@@ -279,5 +393,6 @@ export default async function render(main, ctx) {
   for (const s of [pointSel, dirSel, indexSel]) s.addEventListener("change", draw);
   ctx.signal.addEventListener("abort", () => state.ctrl?.abort(), { once: true });
   compute();
+  floor.compute();
   return () => { state.seq += 1; };
 }

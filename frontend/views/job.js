@@ -2,7 +2,7 @@
 // finished job: summary cards, time histories, spectra, spectrogram, Sperling breakdown,
 // cross-correlation, wheel–rail forces with running safety; downloads and exports.
 
-import { api, cached } from "../api.js";
+import { api, cached, request } from "../api.js";
 import {
   h, setChildren, badge, progressBar, duration, when, fmt, fixed, errorBox, notice, loading, tabs,
   dataTable, prettyUnit, DIRECTION_NAMES, channelLabel, channelName,
@@ -108,6 +108,74 @@ export function comfortTable(pts, catalogue) {
     caption: "Comfort indices per point (W: Sperling index with its GB 5599 grade; a_w: ISO 2631 weighted rms, Wb vertical, Wd lateral; f: dominant frequency)",
     className: "comfort-table", groups: [{ label: "", span: 1 }, { label: "Vertical (z)", span: 5 }, { label: "Lateral (y)", span: 5 }, { label: "", span: 1 }],
   });
+}
+
+/**
+ * The frequency-domain estimate (POST /estimates with `spectra`) of a job's own scenario drawn
+ * over its Welch PSD: the expected one-sided acceleration PSD of each chosen car-body channel,
+ * times the squared gain of the quasi-static split when the Welch PSD removes it. A refusal
+ * (`refusal: "answer"`: applicable false), an FE model not built (409) or a busy service (503)
+ * is a note, never an error.
+ */
+function psdOverlay(jobId, signal) {
+  const answers = new Map(); // points → answer (the service keeps them too)
+  const note = h("p", { class: "small muted", id: "psd-overlay-note", "aria-live": "polite" });
+  const say = (text, state) => { note.textContent = text; note.dataset.state = state; };
+
+  async function answer(points) {
+    const key = points.join(",");
+    if (!answers.has(key)) {
+      const scenario = await cached(`scenario:${jobId}`, () => api.jobScenario(jobId));
+      const body = { scenario, points, spectra: true, refusal: "answer" };
+      answers.set(key, request("/estimates", { method: "POST", body, signal, timeout: 60000 }));
+    }
+    try {
+      return await answers.get(key);
+    } catch (err) {
+      answers.delete(key); // ask again next time (busy, not built yet)
+      throw err;
+    }
+  }
+
+  function trace(res, channel, p) {
+    const r = res.response;
+    const gain = p.dynamic ? r.dynamic_part_gain : null;
+    const keep = r.frequencies_hz.map((f, i) => i).filter((i) => r.frequencies_hz[i] <= (p.fmax ?? 50));
+    const y = keep.map((i) => r.psd[channel][i] * (gain ? gain[i] : 1)).map((v) => (v > 0 ? v : null));
+    const point = channel.split(".")[1];
+    return {
+      type: "scatter", mode: "lines", name: `${channelLabel(channel)} – frequency-domain estimate`,
+      x: keep.map((i) => r.frequencies_hz[i]), y, line: { width: 2, color: pointColor(point), dash: "dot" },
+      meta: { unit: "(m/s²)²/Hz" }, hovertemplate: "%{x:.3g} Hz: %{y:.4g} (m/s²)²/Hz<extra>%{fullData.name}</extra>",
+    };
+  }
+
+  /** Traces of the estimate for the chosen channels (none, with the reason in the note). */
+  async function traces(channels, p) {
+    const acc = channels.filter((c) => /^carbody\.[^.]+\.acc\.[yz]$/.test(c));
+    if (!acc.length) {
+      say("The estimate covers car-body accelerations (lateral y, vertical z): choose one.", "none");
+      return [];
+    }
+    say("Estimating in the frequency domain…", "loading");
+    let res;
+    try {
+      res = await answer([...new Set(acc.map((c) => c.split(".")[1]))]);
+    } catch (err) {
+      if (signal.aborted || err?.name === "AbortError") return [];
+      say(`No frequency-domain estimate${err.status === 503 ? " now" : ""}: ${err.message}`, "refused");
+      return [];
+    }
+    if (res.applicable === false) {
+      say(`No frequency-domain estimate: ${res.message}`, "refused");
+      return [];
+    }
+    const c = res.comfort;
+    const flags = c.flags.length ? ` ${c.flags.length} flag(s) where it may not hold: ${c.flags.join(" ")}` : "";
+    say(`Dotted: the expected PSD of the same channel for this job's scenario (${c.speed_kmh} km/h), one-sided like the Welch PSD${p.dynamic ? ", quasi-static part removed the same way" : ""}. Method: ${c.method}.${flags}`, "ready");
+    return acc.map((ch) => trace(res, ch, p));
+  }
+  return { note, traces, clear: () => say("", "off") };
 }
 
 export default async function render(main, ctx) {
@@ -284,11 +352,25 @@ export default async function render(main, ctx) {
       const p = { fmax: 30, segment_s: 8, dynamic: true, logx: false };
       const amp = spectrumPlot({ title: "Amplitude spectrum", id: "plot-spectrum", kind: "amplitude", description: "Amplitude spectrum with dominant peaks" });
       const psd = spectrumPlot({ title: "Power spectral density", id: "plot-psd", kind: "psd", description: "Welch PSD with dominant peaks" });
-      const draw = () => {
-        const src = sourcesOf(chosen);
-        amp.set(src, p);
-        psd.set(src, p);
+      const overlay = psdOverlay(id, ctx.signal);
+      let overlayOn = false;
+      let seq = 0;
+      const drawPsd = async () => {
+        const my = ++seq;
+        const extra = overlayOn ? await overlay.traces(chosen, p) : [];
+        if (my === seq && !ctx.signal.aborted) await psd.set(sourcesOf(chosen), { ...p, extra });
       };
+      const draw = () => {
+        amp.set(sourcesOf(chosen), p);
+        drawPsd();
+      };
+      psd.el.append(overlay.note);
+      psd.card.setControls(h("div", { class: "controls" }, h("label", { class: "check" },
+        h("input", { type: "checkbox", id: "psd-overlay", onchange: (e) => {
+          overlayOn = e.target.checked;
+          if (!overlayOn) overlay.clear();
+          drawPsd();
+        } }), "Overlay frequency-domain estimate")));
       const num = (key, label, unit, attrs) => {
         const inp = h("input", { type: "number", id: `spec-${key}`, value: String(p[key]), ...attrs, style: { width: "6em" }, onchange: () => {
           const v = Number(inp.value);

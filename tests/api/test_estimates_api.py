@@ -120,6 +120,33 @@ def test_smooth_track_is_refused_like_a_transient_excitation(sqlite_client):
     assert "no random irregularity" in item["msg"]
 
 
+@pytest.mark.parametrize("name, reason, loc", [
+    ("paper-random-curve-80", "flange_contact", ["strict"]),
+    ("paper-corrugation-80", "excitation", ["excitation"]),
+    ("paper-metro", "excitation", ["excitation"]),
+])
+def test_a_refusal_asked_as_an_answer_is_200_with_the_same_reasons(sqlite_client, name, reason,
+                                                                   loc):
+    """``refusal: "answer"``: whether the estimate applies, without an error status (what the
+    dashboard's instant estimate asks); the reasons are those of the 422."""
+    error = _post(sqlite_client, {"preset": name, "points": ["PC"]})
+    r = _post(sqlite_client, {"preset": name, "points": ["PC"], "refusal": "answer"})
+    assert error.status_code == 422 and r.status_code == 200, r.text
+    body = r.json()
+    assert body["applicable"] is False and body["reason"] == reason
+    assert body["reasons"] == error.json()["detail"] and body["reasons"][0]["loc"] == loc
+    assert body["message"] == error.json()["message"]
+
+
+def test_an_estimate_that_applies_is_the_same_answer_either_way(sqlite_client):
+    a = _post(sqlite_client, {"preset": BASE, "points": ["PC"]})
+    b = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "refusal": "answer"})
+    assert a.status_code == b.status_code == 200 and a.content == b.content
+    assert "applicable" not in b.json()
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "refusal": "maybe"})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "refusal"]
+
+
 @pytest.mark.parametrize("sweep, loc, words", [
     ({"parameter": "vehicle.secondary.cz", "values": [8.0e4, -1.0]}, ["sweep", "values", 1],
      "vehicle.secondary.cz = -1.0"),
@@ -228,9 +255,20 @@ def test_spectra_are_the_library_psds_and_integrate_to_the_rms(sqlite_client):
     for ch in ("carbody.PC.acc.y", "carbody.PC.acc.z"):
         var = np.trapezoid(np.asarray(resp["psd"][ch]), f)
         assert np.sqrt(var) == pytest.approx(resp["rms"][ch], rel=0.02), ch
+    # the split's gain: the power a sine keeps through the analysis's quasi-static split
+    from flexride.analysis import split_quasistatic
+
+    fs, t = 200.0, np.arange(0.0, 400.0, 1.0 / 200.0)
+    gain = np.asarray(resp["dynamic_part_gain"])
+    for f0 in (0.2, 0.3, 0.4, 1.0):
+        x = np.sin(2 * np.pi * f0 * t)
+        mid = slice(t.size // 4, 3 * t.size // 4)  # away from the ends' extension
+        kept = np.mean(split_quasistatic(x, fs).dynamic[mid] ** 2) / np.mean(x[mid] ** 2)
+        assert np.interp(f0, f, gain) == pytest.approx(kept, rel=0.02, abs=1e-4), f0
     # without the option the answer stays small
     plain = _post(sqlite_client, {"preset": BASE, "points": ["PC"]}).json()["response"]
     assert "psd" not in plain and "frequencies_hz" not in plain
+    assert "dynamic_part_gain" not in plain
 
 
 @pytest.mark.parametrize("extra, words", [
@@ -242,3 +280,52 @@ def test_spectra_are_bounded(sqlite_client, extra, words):
     assert r.status_code == 422, r.text
     item = r.json()["detail"][0]
     assert item["loc"] == ["body", "spectra"] and words in item["msg"], item
+
+
+def test_a_floor_map_is_the_library_map_of_the_floor_grid(sqlite_client):
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "floor_map": {"spacing_m": 1.0}})
+    assert r.status_code == 200, r.text
+    data = r.json()
+    oracle = estimate(preset(BASE), points=["PC"], floor_grid_m=1.0).to_dict()
+    _close(data["floor_map"], oracle["floor_map"], 1e-12)
+    fm = data["floor_map"]
+    assert len(fm["x_m"]) == 19 and len(fm["y_m"]) == 3
+    assert len(fm["indices"]["z"]["sperling"]) == 3 and len(fm["indices"]["z"]["sperling"][0]) == 19
+    assert fm["weightings"] == {"z": "Wb", "y": "Wd"}
+    assert [p["name"] for p in fm["points"]] == ["PFB", "PC", "PRB", "PLA", "PRA"]
+    # the asked points' estimate is the one without the map
+    assert [p["name"] for p in data["comfort"]["points"]] == ["PC"]
+    plain = _post(sqlite_client, {"preset": BASE, "points": ["PC"]}).json()
+    assert "floor_map" not in plain
+    _close(data["comfort"]["points"], plain["comfort"]["points"], 1e-9)
+
+
+@pytest.mark.parametrize("floor, loc, words", [
+    ({"spacing_m": 0.3}, ["floor_map", "spacing_m"], "limit of 200"),
+    ({"spacing_m": 0.1}, ["floor_map", "spacing_m"], "greater than or equal to 0.2"),
+    ({"spacing_m": 0.0}, ["body", "floor_map", "spacing_m"], "greater than 0"),
+    ({"spacing_m": 1.0, "nx": 3}, ["body", "floor_map", "nx"], "Extra inputs"),
+])
+def test_a_floor_map_is_bounded(sqlite_client, floor, loc, words):
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "floor_map": floor})
+    assert r.status_code == 422, r.text
+    item = r.json()["detail"][0]
+    assert item["loc"] == loc and words in item["msg"], item
+
+
+def test_a_floor_map_too_fine_says_which_spacing_fits(sqlite_client):
+    r = _post(sqlite_client, {"preset": BASE, "floor_map": {"spacing_m": 0.3}})
+    msg = r.json()["detail"][0]["msg"]
+    # 0.3 m: 61 × 9 grid points and the paper's six; 0.45 m: 41 × 6 + 6 = 252 > 200;
+    # 0.5 m: 37 × 5 + 6 = 191
+    assert "makes 555 recorded" in msg and "0.5 m fits" in msg, msg
+    r = _post(sqlite_client, {"preset": BASE, "floor_map": {"spacing_m": 0.5}})
+    assert r.status_code == 200, r.text
+
+
+def test_a_floor_map_is_not_made_with_a_sweep(sqlite_client):
+    r = _post(sqlite_client, {"preset": BASE, "floor_map": {"spacing_m": 1.0},
+                              "sweep": {"parameter": "speed_kmh", "values": [60, 70]}})
+    assert r.status_code == 422
+    item = r.json()["detail"][0]
+    assert item["loc"] == ["body", "floor_map"] and "not with a sweep" in item["msg"], item

@@ -1,9 +1,10 @@
 """Browser tests of the frequency-domain estimate in the dashboard against a real ``flexride
 serve``, in Chromium and Firefox (fixtures of tests/frontend/conftest.py): the instant-estimate
 panel of the new-job view (numbers for the default preset, asked again once after the speed is
-typed, a refusal as a note and never a form error) and the sweep view ``#/estimate`` (a curve
-with the requested number of values, refused values marked, redrawn without asking again); no
-console errors (checked by the ``page`` fixture).
+typed, a refusal as a note and never a form error or a 4xx) and the sweep view ``#/estimate`` (a
+curve with the requested number of values, refused values marked, redrawn without asking again;
+the heatmap over the floor grid with the paper's points); no console errors (checked by the
+``page`` fixture).
 """
 
 from __future__ import annotations
@@ -70,8 +71,18 @@ def test_instant_estimate_shows_the_default_preset_and_follows_the_speed(page, s
     assert len(posts) == 1
 
 
+def _estimate_statuses(page: Any) -> list[int]:
+    """A list that collects the statuses of the page's POST /api/v1/estimates from now on."""
+    seen: list[int] = []
+    page.on("response", lambda r: seen.append(r.status)
+            if r.request.method == "POST" and r.url.endswith("/api/v1/estimates") else None)
+    return seen
+
+
 def test_instant_estimate_refusal_is_a_note_not_a_form_error(page, server, shot):
-    page.console_log.allow(r"status of 422")  # the service refuses the linear estimate
+    """The service says whether the estimate applies (``refusal: "answer"``: 200 with
+    ``applicable: false``), so a refusal is no 4xx in the console (the ``page`` fixture)."""
+    statuses = _estimate_statuses(page)
     page.goto("/#/new?preset=paper-random-curve-80")
     assert _settled(page) == "refused", page.locator("#estimate-panel").inner_text()
     note = page.locator("#estimate-note").inner_text()
@@ -81,14 +92,16 @@ def test_instant_estimate_refusal_is_a_note_not_a_form_error(page, server, shot)
     assert all(t == "" for t in page.locator(".field-error.from-server").all_inner_texts())
     assert page.locator("#submit-message").inner_text() == ""
     shot(page, "22-new-job-estimate-refused", full_page=False)
-    # a scenario without a random irregularity: the note, without asking the service
-    posts = _estimate_posts(page)
-    page.select_option("#preset-select", "paper-settlement-60")
-    page.get_by_role("button", name="Load preset").click()
-    page.wait_for_function("() => document.querySelector('#estimate-note')?.textContent"
-                           ".includes('settlement')")
-    assert "no random irregularity" in page.locator("#estimate-note").inner_text()
-    assert posts == []
+    # a scenario without a random irregularity: the service's reason, at its excitation
+    for name, words in (("paper-settlement-60", "settlement excitation"),
+                        ("paper-metro", "no random irregularity")):
+        page.select_option("#preset-select", name)
+        page.get_by_role("button", name="Load preset").click()
+        page.wait_for_function("w => document.querySelector('#estimate-note')?.textContent"
+                               ".includes(w)", arg=words, timeout=60_000)
+        note = page.locator("#estimate-note").inner_text()
+        assert note.startswith("No linear estimate:"), note
+    assert statuses and not any(400 <= s < 500 for s in statuses), statuses
 
 
 def test_sweep_view_draws_the_requested_values(page, server, shot, wait_plot):
@@ -155,3 +168,42 @@ def test_sweep_view_checks_the_values_and_shows_the_servers_message_at_its_field
     page.locator("#est-overrides-err").wait_for(state="visible")
     assert "greater than or equal to 0" in page.locator("#est-overrides-err").inner_text()
     assert page.locator("#est-parameter-err").inner_text() == ""
+
+
+def test_floor_map_is_a_heatmap_with_the_paper_points(page, server, shot, wait_plot):
+    page.console_log.allow(r"status of 422")  # the service refuses a grid beyond its limit
+    page.goto("/#/estimate?count=3")
+    wait_plot(page, "#plot-floor-map", timeout=90_000)
+    api = server.api("/estimates", {"preset": PRESET, "overrides": {}, "points": ["PC"],
+                                    "floor_map": {"spacing_m": 1.0}})["floor_map"]
+    data = page.eval_on_selector("#plot-floor-map .plot", "e => e.data.map(t => ({type: t.type,"
+                                 " x: t.x, y: t.y, z: t.z, text: t.text}))")
+    heat, marks = data
+    assert heat["type"] == "heatmap" and heat["x"] == api["x_m"] and heat["y"] == api["y_m"]
+    assert len(heat["x"]) == 19 and len(heat["y"]) == 3
+    assert heat["z"] == api["indices"]["z"]["sperling"]
+    assert marks["text"] == ["PFB", "PC", "PRB", "PLA", "PRA"]  # the paper's floor points
+    assert [marks["x"][3], marks["y"][3]] == [-6.3, 0.95]  # PLA: rear bogie, left air spring
+    axes = page.eval_on_selector("#plot-floor-map .plot", "e => [e.layout.xaxis.title.text,"
+                                 " e.layout.yaxis.title.text]")
+    assert axes[0].startswith("Position along the car body x (m") and "(m, left +)" in axes[1]
+    shot(page, "24-estimate-floor-map")
+    # another index from the same answer
+    page.select_option("#floor-index", "awy")
+    page.wait_for_function("() => document.querySelector('#plot-floor-map .plot-note')"
+                           ".textContent.startsWith('ISO 2631 a_w lateral (y) (Wd)')")
+    z = page.eval_on_selector("#plot-floor-map .plot", "e => e.data[0].z")
+    assert z == api["indices"]["y"]["iso2631"]
+    # a grid beyond the service's limit: its message at the spacing; a coarser one redraws
+    page.fill("#floor-spacing", "")  # Firefox: fill alone may keep the number there
+    page.fill("#floor-spacing", "0.3")
+    page.press("#floor-spacing", "Enter")
+    page.locator("#floor-spacing-err").wait_for(state="visible")
+    assert "0.5 m fits" in page.locator("#floor-spacing-err").inner_text()
+    assert page.get_attribute("#floor-spacing", "aria-invalid") == "true"
+    page.fill("#floor-spacing", "")
+    page.fill("#floor-spacing", "2")
+    page.press("#floor-spacing", "Enter")
+    page.wait_for_function("() => document.querySelector('#plot-floor-map .plot')"
+                           ".data?.[0]?.x?.length === 10", timeout=60_000)
+    assert page.locator("#floor-spacing-err").inner_text() == ""

@@ -26,6 +26,7 @@ import numpy as np
 
 from flexride.errors import ScenarioError
 from flexride.frequency.grid import frequency_grid, integration_weights
+from flexride.frequency.indices import dynamic_part_gain
 from flexride.frequency.lti import OutputMap
 from flexride.frequency.model import LinearModel
 from flexride.frequency.track_input import TrackSpectra
@@ -119,7 +120,11 @@ class ResponseSpectra:
         return (a * om + b * gm).real / np.maximum(total, 1e-300)[:, None]
 
     def to_dict(self, arrays: bool = False) -> dict[str, Any]:
-        """JSON form: channels, rms per channel; with ``arrays`` the grid and the PSDs."""
+        """JSON form: channels, rms per channel; with ``arrays`` the grid (Hz), the PSDs
+        ((m/s²)²/Hz) and ``dynamic_part_gain`` (-), the squared gain of the analysis's
+        quasi-static split on the grid: PSD × gain is the PSD of the dynamic part a job's
+        spectra show by default.
+        """
         out: dict[str, Any] = {
             "scenario": self.model.scenario.name, "track": self.model.track,
             "channels": list(self.channels),
@@ -128,6 +133,7 @@ class ResponseSpectra:
         if arrays:
             out["frequencies_hz"] = self.frequencies.tolist()
             out["psd"] = {c: self.psd[i].tolist() for i, c in enumerate(self.channels)}
+            out["dynamic_part_gain"] = dynamic_part_gain(self.frequencies).tolist()
         return out
 
 

@@ -10,7 +10,13 @@ from fastapi import APIRouter, Request, Response
 
 from flexride.api.deps import AUTH, ServicesDep
 from flexride.api.schemas import ErrorResponse
-from flexride.api.schemas.estimates import MAX_SWEEP_VALUES, EstimateCreate, EstimateOut, SweepOut
+from flexride.api.schemas.estimates import (
+    MAX_SWEEP_VALUES,
+    EstimateCreate,
+    EstimateOut,
+    NotApplicableOut,
+    SweepOut,
+)
 from flexride.api.services import estimates as svc_est
 
 router = APIRouter(prefix="/estimates", tags=["estimates"])
@@ -28,8 +34,9 @@ _REFUSED_EXAMPLE = {
     "reason": "flange_contact"}
 
 RESPONSES: dict[int | str, dict[str, Any]] = {
-    200: {"description": "The estimate (EstimateOut), or with 'sweep' the series over the "
-          "values (SweepOut)"},
+    200: {"description": "The estimate (EstimateOut), with 'sweep' the series over the "
+          "values (SweepOut), or with refusal 'answer' for a scenario the linear estimate "
+          "does not hold for applicable: false and the reasons (NotApplicableOut)"},
     401: {"model": ErrorResponse, "description": "Bearer token missing or wrong"},
     409: {"model": ErrorResponse, "description": "A flexible body whose FE model is not built "
           "yet: a job of the scenario or GET /fe/{kind} builds it"},
@@ -47,8 +54,8 @@ RESPONSES: dict[int | str, dict[str, Any]] = {
 }
 
 
-@router.post("", response_model=EstimateOut | SweepOut, dependencies=AUTH, responses=RESPONSES,
-             summary="Frequency-domain comfort estimate")
+@router.post("", response_model=EstimateOut | SweepOut | NotApplicableOut, dependencies=AUTH,
+             responses=RESPONSES, summary="Frequency-domain comfort estimate")
 def create_estimate(body: EstimateCreate, request: Request, svc: ServicesDep) -> Response:
     """The comfort indices of a scenario from its linearised vehicle–track model driven by the
     track spectra — what ``flexride estimate --json`` prints, in about 0.3 s for a rigid
@@ -63,9 +70,16 @@ def create_estimate(body: EstimateCreate, request: Request, svc: ServicesDep) ->
     index against the values (null where the linear estimate is refused, with the reason in
     ``refused``).
 
+    With ``floor_map`` the answer also maps the comfort over the car body's floor grid
+    (``floor_map``: axes, names, rms, ISO 2631 weighted rms and Sperling per direction, N_MV;
+    422 at ``["floor_map", "spacing_m"]`` for a grid beyond the service's limit of recorded
+    points).
+
     A scenario the linear model does not hold for (flange contact or lost contact at
     equilibrium, a transient excitation, hunting) is refused with 422 unless ``strict`` is
-    false; the time-domain job (``POST /jobs``) is the answer then. A flexible body is
+    false; the time-domain job (``POST /jobs``) is the answer then. With ``refusal:
+    "answer"`` the refusal is a 200 answer with ``applicable: false``, the reason and the
+    located reasons (for a client that asks whether the estimate applies). A flexible body is
     estimated only when its FE model is built (409 otherwise). Answers are kept: the same
     request again is served from memory.
     """

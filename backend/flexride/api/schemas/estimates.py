@@ -34,6 +34,18 @@ class SweepSpec(_Strict):
         "the scenario: a value that makes it invalid is a 422 at ['sweep', 'values', i]")
 
 
+class FloorMapSpec(_Strict):
+    """A comfort map over the car body's floor grid (the grid of
+    ``output.floor_grid_spacing_m``).
+    """
+
+    spacing_m: float = Field(
+        gt=0.0, description="Grid spacing (m), within the range of the scenario's "
+        "output.floor_grid_spacing_m; the grid's points with the scenario's other car-body "
+        "points within the service's limit of recorded points (FLEXRIDE_MAX_OUTPUT_POINTS)",
+        json_schema_extra={"unit": "m"})
+
+
 class EstimateCreate(ScenarioInput):
     """A frequency-domain estimate: the scenario input of ``POST /jobs`` (a full scenario, or a
     preset with dotted-path overrides) and the estimate's options.
@@ -63,7 +75,19 @@ class EstimateCreate(ScenarioInput):
     spectra: bool = Field(
         False, description="Also return the frequency grid and the one-sided acceleration PSD "
         f"of every channel ((m/s²)²/Hz) in 'response' (not with a sweep; at most "
-        f"{MAX_SPECTRA_POINTS} points)")
+        f"{MAX_SPECTRA_POINTS} points), with 'dynamic_part_gain': the squared gain of the "
+        "analysis's quasi-static split (multiply a PSD by it to compare with a job's PSD of the "
+        "dynamic part)")
+    floor_map: FloorMapSpec | None = Field(
+        None, description="Also map the comfort over the car body's floor grid: 'floor_map' "
+        "in the answer with the grid's x_m, y_m, names and per direction the rms, ISO 2631 "
+        "weighted rms and Sperling index as [y][x] arrays, N_MV, and the floor points of the "
+        "scenario to mark (not with a sweep)")
+    refusal: Literal["error", "answer"] = Field(
+        "error", description="How a scenario the linear estimate does not hold for is answered: "
+        "'error' (default) 422 with the reason; 'answer' 200 with applicable: false, the reason "
+        "and the located reasons (NotApplicableOut), for clients that ask whether an estimate "
+        "applies (the dashboard's instant estimate)")
 
     @field_validator("spectra")
     @classmethod
@@ -78,6 +102,13 @@ class EstimateCreate(ScenarioInput):
                              f"got {n}")
         return v
 
+    @field_validator("floor_map")
+    @classmethod
+    def _floor_map_alone(cls, v: FloorMapSpec | None, info: ValidationInfo
+                         ) -> FloorMapSpec | None:
+        if v is not None and info.data.get("sweep") is not None:
+            raise ValueError("a floor map is made for one scenario, not with a sweep")
+        return v
 
 
 class EstimateOut(BaseModel):
@@ -92,7 +123,23 @@ class EstimateOut(BaseModel):
         "The linearised model: track model, sizes, operating point, modes below 30 Hz, static "
         "wheel loads, quasi-static accelerations, flags, timings"))
     response: dict[str, Any] = Field(description="rms per channel and the input spectra; with "
-                                     "'spectra' also frequencies_hz and psd per channel")
+                                     "'spectra' also frequencies_hz, psd per channel and "
+                                     "dynamic_part_gain")
+    floor_map: dict[str, Any] | None = Field(None, description="With 'floor_map': the comfort "
+                                             "map over the floor grid")
+
+
+class NotApplicableOut(BaseModel):
+    """The answer with ``refusal: "answer"`` for a scenario the linear estimate does not hold
+    for (what a 422 refusal says otherwise).
+    """
+
+    applicable: Literal[False] = Field(description="Always false: no estimate")
+    reason: str = Field(description="flange_contact, contact_loss, excitation, unstable or "
+                        "equilibrium")
+    message: str = Field(description="Why, and what to do")
+    reasons: list[dict[str, Any]] = Field(description="Located reasons: loc (where it points in "
+                                          "the request), msg, type, ctx.reason")
 
 
 class RefusedValue(BaseModel):

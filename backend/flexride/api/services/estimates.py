@@ -24,6 +24,7 @@ A rigid vehicle's estimate takes about 0.3 s, a sweep about 0.3 s plus 30 ms per
 from __future__ import annotations
 
 import json
+import math
 import threading
 from typing import Any
 
@@ -36,6 +37,7 @@ from flexride.api.schemas.estimates import EstimateCreate
 from flexride.api.services.result_cache import Rendered, accepts_gzip, gzip_settings, render
 from flexride.errors import ErrorItem, ScenarioError
 from flexride.frequency import LinearisationError, estimate
+from flexride.frequency.floor import floor_scenario
 from flexride.frequency.sweep import SweepResult, sweep_scenarios
 from flexride.scenario.loading import resolve_scenario
 from flexride.scenario.scenario import Scenario, located_error
@@ -79,15 +81,20 @@ _SLOTS = threading.BoundedSemaphore(MAX_CONCURRENT)
 _ANSWERS = ByteLRU(ANSWER_CACHE_BYTES, max_entries=256)
 
 
-def refusal(err: LinearisationError) -> Response:
-    """The 422 answer of a scenario the linear estimate does not hold for: ``loc`` where it
-    points in the request, the reason in ``ctx`` and what to do in the message.
+def refusal(err: LinearisationError, as_answer: bool = False) -> Response:
+    """The answer for a scenario the linear estimate does not hold for: ``loc`` where it
+    points in the request, the reason in ``ctx`` and what to do in the message; 422, or with
+    ``as_answer`` (``refusal: "answer"``) 200 with ``applicable: false`` and the same content.
     """
     advice = ADVICE.get(err.reason, f"run the time-domain simulation (POST {API_PREFIX}/jobs)")
     item = {"loc": REASON_LOC.get(err.reason, []), "msg": str(err), "type": "LinearisationError",
             "ctx": {"reason": err.reason}}
+    message = f"{err}. What to do: {advice}"
+    if as_answer:
+        return SafeJSONResponse(status_code=200, content={
+            "applicable": False, "reason": err.reason, "message": message, "reasons": [item]})
     return SafeJSONResponse(status_code=422, content={
-        "detail": [item], "message": f"{err}. What to do: {advice}", "reason": err.reason})
+        "detail": [item], "message": message, "reason": err.reason})
 
 
 def busy() -> Response:
@@ -224,10 +231,39 @@ def _check_path(base: Scenario, path: str) -> None:
                                    "request")
 
 
+#: Where a floor map's problems point in the request.
+FLOOR_LOC: tuple[str, ...] = ("floor_map", "spacing_m")
+
+
+def _check_floor(svc: Services, base: Scenario, spacing: float) -> None:
+    """422 at ``["floor_map", "spacing_m"]`` for a spacing the scenario refuses or a grid
+    beyond the service's limit of recorded points (with the smallest spacing that fits).
+    """
+    from flexride.solver.estimate import count_output_points
+
+    try:
+        sc = floor_scenario(base, spacing)
+    except ScenarioError as err:
+        msgs = [f"{i.msg} (output.floor_grid_spacing_m)" for i in err.items] or [str(err)]
+        raise located_error([ErrorItem(FLOOR_LOC, m) for m in msgs], "request") from None
+    limit = svc.submitter.limits.max_output_points
+    n = count_output_points(sc)
+    if n > limit:
+        fits = next((s / 20 for s in range(math.ceil(spacing * 20), 101)
+                     if count_output_points(floor_scenario(base, s / 20)) <= limit), None)
+        hint = f"; {fits:g} m fits" if fits is not None else ""
+        raise ScenarioError.at(FLOOR_LOC, f"the floor grid at {spacing:g} m makes {n} recorded "
+                               f"car-body points, more than the service's limit of {limit} "
+                               f"(FLEXRIDE_MAX_OUTPUT_POINTS): choose a larger spacing{hint}",
+                               "request")
+
+
 def _checked(svc: Services, body: EstimateCreate) -> tuple[Scenario, list[Scenario] | None]:
     """The scenario (and the sweep's), validated and admitted (422/409 otherwise)."""
     base = resolve_scenario(body.scenario, body.preset, body.overrides)
     _admit(svc, base, _ALL_CHECKS)
+    if body.floor_map is not None:
+        _check_floor(svc, base, body.floor_map.spacing_m)
     values = _value_scenarios(body, base) if body.sweep is not None else None
     _check_fe(base)
     if values is not None and body.sweep is not None:
@@ -276,7 +312,8 @@ def _content(svc: Services, body: EstimateCreate, base: Scenario,
     """The answer's JSON content (raises :class:`LinearisationError` for a refused estimate)."""
     sources = svc.uploads.sources
     if values is None or body.sweep is None:
-        est = estimate(base, body.points, body.track, strict=body.strict, sources=sources)
+        est = estimate(base, body.points, body.track, strict=body.strict, sources=sources,
+                       floor_grid_m=body.floor_map.spacing_m if body.floor_map else None)
         return est.to_dict(arrays=body.spectra)
     top = body.sweep.parameter.split(".")[0]
     res = sweep_scenarios(values, body.sweep.parameter, list(body.sweep.values), body.points,
@@ -291,7 +328,7 @@ def _key(svc: Services, body: EstimateCreate, scenarios: list[Scenario],
     where uploads are read from.
     """
     options = body.model_dump(mode="json", include={"points", "track", "strict", "sweep",
-                                                     "spectra"})
+                                                     "spectra", "floor_map"})
     return canonical_json({"scenarios": [(scenario_hash(sc), sc.name) for sc in scenarios],
                            "options": options, "uploads": str(svc.uploads.sources.upload_dir),
                            "gzip": gzip_min})
@@ -299,8 +336,9 @@ def _key(svc: Services, body: EstimateCreate, scenarios: list[Scenario],
 
 def estimate_answer(request: Request, svc: Services, body: EstimateCreate) -> Response:
     """The HTTP answer of ``POST /estimates`` (module docstring): 200 with the estimate or the
-    sweep, 422 for an invalid request or a refused estimate, 409 for an FE body not built,
-    503 when busy.
+    sweep, 422 for an invalid request or a refused estimate (200 with ``applicable: false``
+    for a refused one with ``refusal: "answer"``), 409 for an FE body not built, 503 when
+    busy.
     """
     base, values = _checked(svc, body)
     gz = gzip_settings(request.app)
@@ -313,10 +351,11 @@ def estimate_answer(request: Request, svc: Services, body: EstimateCreate) -> Re
         try:
             hit = _ANSWERS.get_or_make(key, lambda: _make(svc, body, base, values, gzip_min))
         except LinearisationError as err:
-            return refusal(err)
+            return refusal(err, body.refusal == "answer")
         except np.linalg.LinAlgError as err:  # a degenerate system: no linear model either
             return refusal(LinearisationError(
-                f"the linearised system is singular ({err})", "equilibrium"))
+                f"the linearised system is singular ({err})", "equilibrium"),
+                body.refusal == "answer")
         finally:
             _SLOTS.release()
     assert hit is not None
