@@ -57,8 +57,19 @@ function gridLayout(panels, { yTitle, xTitle, legendTop }) {
 }
 
 /**
+ * Error bars of the 95 % confidence intervals of means over irregularity realisations (a
+ * study's ``seeds``), or nothing when no value has one.
+ * @param {Array<number|null>|undefined} ci half widths, null where there is one realisation
+ * @param {string} color
+ */
+export function ciBars(ci, color) {
+  if (!ci || !ci.some((v) => v !== null && v !== undefined)) return {};
+  return { error_y: { type: "data", array: ci.map((v) => v ?? 0), visible: true, color, thickness: 1.2, width: 4 } };
+}
+
+/**
  * Small multiples of a quantity against speed.
- * @param {Array} rows study table rows {group, point, direction, speed_kmh[], value[], job_ids[], fit?}
+ * @param {Array} rows study table rows {group, point, direction, speed_kmh[], value[], ci95[]?, job_ids[], fit?}
  * @param {{groups: string[], dirs: string[], groupLabel: Function, catalogue: Map, order: string[],
  *          yTitle: (dir) => string, limits?: Array<[number, string]>, withFit?: boolean,
  *          mode?: string, unit?: string}} o
@@ -85,7 +96,7 @@ export function facetFigure(rows, o) {
       data.push({
         type: "scatter", mode: o.mode || "lines+markers", name: r.point, legendgroup: r.point, showlegend: !legendDone.has(r.point),
         x: r.speed_kmh, y: r.value, customdata: r.job_ids, xaxis: xa, yaxis: ya,
-        marker: { color, size: 7 }, line: { color, width: 1.6 },
+        marker: { color, size: 7 }, line: { color, width: 1.6 }, ...ciBars(r.ci95, color),
         hovertemplate: `${desc}<br>${p.group}, ${DIR_NAMES[p.dir]}<br>%{x} km/h: %{y:.3f}${o.unit ? ` ${o.unit}` : ""}${fitOk ? `<br>fit R² = ${fixed(r.fit.r_squared, 3)}` : ""}<br>click to open the job<extra></extra>`,
       });
       legendDone.add(r.point);
@@ -140,6 +151,7 @@ export function flexRigidFigure(rows, o) {
         xaxis: axisRef(k, "x"), yaxis: axisRef(k, "y"),
         marker: { color: sel.map((r) => pointColor(r.point)), pattern: { shape: PATTERNS[ci % PATTERNS.length], fgcolor: "#fff" } },
         text: sel.map((r) => (r.relative === null ? "" : pct(r.relative))), textposition: "outside", cliponaxis: false, textfont: { size: 11 },
+        ...ciBars(sel.map((r) => (r.relative_ci95 == null ? null : 100 * r.relative_ci95)), "#1f2933"),
         customdata: sel.map((r) => [pointText(r.point, o.catalogue), fmt(r.rigid, 3), fmt(r.flexible, 3)]),
         hovertemplate: `%{customdata[0]}<br>${c}, ${DIR_NAMES[p.dir]}<br>rigid %{customdata[1]}, flexible %{customdata[2]}: %{y:+.1f} %<extra></extra>`,
       });

@@ -15,6 +15,7 @@ export const CONDITIONS = [
   ["settlement", "Settlement (long wave)"],
 ];
 const MAX_JOBS = 256;
+const MAX_SEEDS = 20; // the service's bound (flexride.study.seeds.MAX_SERVICE_SEEDS; GET /openapi.json says so)
 
 /** Numeric leaf paths of the scenario schema: [{path, label, unit}]. */
 export function numericPaths(schema) {
@@ -85,6 +86,10 @@ export default async function render(main, ctx) {
   const condBoxes = CONDITIONS.map(([v, t]) => h("label", { class: "check" }, h("input", { type: "checkbox", name: "condition", value: v }), `${t} `, h("code", { class: "small" }, v)));
   const modelBoxes = ["rigid", "flexible"].map((m) => h("label", { class: "check" }, h("input", { type: "checkbox", name: "body_model", value: m }), `${m} car body and frames`));
   const paramRows = h("div", { class: "stack", id: "study-params" });
+  const seeds = h("input", { id: "study-seeds", type: "text", value: "1", inputmode: "numeric", autocomplete: "off", "aria-describedby": "study-seeds-help study-seeds-err" });
+  const seedsErr = h("div", { class: "field-error", id: "study-seeds-err" });
+  const section = h("select", { id: "study-section", "aria-describedby": "study-section-help" },
+    [["paper", "the paper report's sections (the arc of a curve)"], ["curve", "the whole curve, transitions included"], ["run", "the whole run"]].map(([v, t]) => h("option", { value: v }, t)));
   const duration = h("input", { id: "study-duration", type: "text", inputmode: "decimal", value: "", placeholder: "as in the scenario", "aria-describedby": "study-duration-help study-duration-err", autocomplete: "off" });
   const durationErr = h("div", { class: "field-error", id: "study-duration-err" });
   const extra = h("textarea", { id: "study-overrides", rows: 3, class: "mono", placeholder: "solver.dt: 5.0e-5\nvehicle.carbody.mass: 38000", "aria-describedby": "study-overrides-help study-overrides-err" });
@@ -168,6 +173,15 @@ export default async function render(main, ctx) {
       params.push({ path: r.path, values: vals });
     }
     if (params.length) req.parameters = params;
+    seedsErr.textContent = "";
+    seeds.removeAttribute("aria-invalid");
+    const ns = Number(seeds.value.trim() || "1");
+    if (!(Number.isInteger(ns) && ns >= 1 && ns <= MAX_SEEDS)) {
+      seedsErr.textContent = `Realisations must be a whole number from 1 to ${MAX_SEEDS}`;
+      seeds.setAttribute("aria-invalid", "true");
+      problems.push(["study-seeds", "Realisations out of range"]);
+    } else if (ns > 1) req.seeds = ns;
+    if (section.value !== "paper") req.section = section.value;
     const overrides = {};
     durationErr.textContent = "";
     duration.removeAttribute("aria-invalid");
@@ -203,7 +217,7 @@ export default async function render(main, ctx) {
     let n = 1;
     for (const k of ["conditions", "speeds_kmh", "body_models"]) n *= (req[k] || []).length || 1;
     for (const p of req.parameters || []) n *= p.values.length;
-    return n;
+    return n * (req.seeds || 1); // at most: a job without a random irregularity runs once
   }
 
   function update() {
@@ -215,6 +229,7 @@ export default async function render(main, ctx) {
       req.speeds_kmh ? `${req.speeds_kmh.length} speed${req.speeds_kmh.length > 1 ? "s" : ""}` : "the base's speed",
       req.body_models ? `${req.body_models.join(" and ")} model${req.body_models.length > 1 ? "s" : ""}` : "the base's body model",
       ...(req.parameters || []).map((p) => `${p.values.length} × ${p.path}`),
+      ...(req.seeds ? [`${req.seeds} irregularity realisations (at most: conditions without a random irregularity run once)`] : []),
     ];
     countInfo.textContent = `${n === 1 ? "job" : "jobs"}: ${parts.join(" × ")}.${n > MAX_JOBS ? ` More than ${MAX_JOBS} (the service's default limit, FLEXRIDE_MAX_STUDY_JOBS).` : ""}`;
     countEl.classList.toggle("fail", n > MAX_JOBS);
@@ -233,6 +248,8 @@ export default async function render(main, ctx) {
     for (const b of modelBoxes) b.querySelector("input").checked = (r.body_models || []).includes(b.querySelector("input").value);
     paramRows.replaceChildren();
     for (const pa of r.parameters || []) addParam(pa.path, pa.values.join(", "));
+    seeds.value = String(r.seeds || 1);
+    section.value = r.section || "paper";
     update();
   }
 
@@ -250,6 +267,9 @@ export default async function render(main, ctx) {
       } else if (/duration_s|distance_m/.test(text)) {
         duration.setAttribute("aria-invalid", "true");
         durationErr.textContent = i.msg;
+      } else if (loc[0] === "seeds") {
+        seeds.setAttribute("aria-invalid", "true");
+        seedsErr.textContent = i.msg;
       } else if (loc[0] === "overrides") {
         extra.setAttribute("aria-invalid", "true");
         extraErr.textContent = i.msg;
@@ -305,20 +325,33 @@ export default async function render(main, ctx) {
       h("fieldset", { class: "enumset" }, h("legend", {}, "Line and excitation conditions (paper Table 3)"), h("div", { class: "checks" }, condBoxes)),
       h("fieldset", { class: "enumset" }, h("legend", {}, "Body models (rigid against flexible, paper Table 2)"), h("div", { class: "checks" }, modelBoxes)),
       h("fieldset", { class: "enumset" }, h("legend", {}, "Any parameter"), paramRows, datalist,
-        h("button", { type: "button", class: "btn btn-small", onclick: () => addParam() }, "Add parameter")))),
+        h("button", { type: "button", class: "btn btn-small", onclick: () => addParam() }, "Add parameter")),
+      h("label", { for: "study-seeds" }, "Irregularity realisations per condition (seeds)", seeds),
+      h("p", { class: "help", id: "study-seeds-help" }, `1–${MAX_SEEDS}. Realisation k draws the random track with each seed + k − 1 (1: the scenario's own); the results show every index as the mean with its 95 % confidence interval (error bars). Conditions without a random irregularity run once.`), seedsErr)),
   h("section", { class: "card" }, h("h2", {}, "For every job"),
     h("div", { class: "stack" },
       h("label", { for: "study-duration" }, "Simulated time per job (s)", duration),
       h("p", { class: "help", id: "study-duration-help" }, "Sets duration_s (and clears distance_m) – a few seconds for a quick look; Sperling indices need at least 5 s."), durationErr,
+      h("label", { for: "study-section" }, "Evaluated section of each run", section),
+      h("p", { class: "help", id: "study-section-help" }, "Where the indices are taken: the paper report's rules (on a curve every wheelset on the circular arc; on straight track with an excitation from 30 m on, after the random profile's fade-in; a settlement over the whole run), the whole curve, or the whole run. A section shorter than 6 s of the run falls back to the whole run; the study page lists each job's section."),
       h("label", { for: "study-overrides" }, "Other overrides (YAML: dotted.path: value)", extra),
       h("p", { class: "help", id: "study-overrides-help" }, "Applied last to every job."), extraErr,
       h("label", { class: "check" }, reuse, "Reuse stored results of identical scenarios"))),
   h("div", { class: "sticky-actions actions" }, submit, msg));
 
+  /** The paper report preset: its runs are fixed by its plan; only quick and seeds are given. */
+  const reportActions = (p) => h("div", { class: "actions", style: { marginTop: "4px" } },
+    [[true, "Run quick report"], [false, `Run full report (${p.n_jobs} jobs)`]].map(([quick, label]) => h("button", {
+      type: "button", class: `btn btn-small${quick ? " btn-primary" : ""}`, id: quick ? "run-report-quick" : "run-report-full",
+      onclick: (e) => {
+        const { req } = request();
+        send({ preset: p.name, quick, seeds: req.seeds || 1, reuse: reuse.checked }, e.target);
+      } }, label)),
+    h("p", { class: "help" }, "Uses the realisations (seeds) set in the form; the other fields do not apply."));
   const presetCards = studyPresets.map((p) => h("div", { class: "card", style: { padding: "10px 12px", margin: "0" } },
     h("strong", {}, p.name), h("span", { class: "muted small" }, ` – ${p.n_jobs} jobs`),
     h("p", { class: "help" }, p.description),
-    h("div", { class: "actions", style: { marginTop: "4px" } },
+    p.request.quick !== undefined ? reportActions(p) : h("div", { class: "actions", style: { marginTop: "4px" } },
       h("button", { type: "button", class: "btn btn-small", "aria-label": `Fill the form with ${p.name}`, onclick: () => { fill(p); setChildren(msg, notice("info", null, `Form filled from ${p.name}; adjust it or create the study.`)); submit.focus(); } }, "Fill the form"),
       h("button", { type: "button", class: "btn btn-small btn-primary", "aria-label": `Run ${p.name} now`, onclick: (e) => {
         const { req } = request();

@@ -48,12 +48,13 @@ export default async function render(main, ctx) {
     ctx.title(st.name);
     renderHead(st);
     const key = JSON.stringify([st.counts, st.jobs.map((j) => j.status)]);
+    const building = st.report && !["ready", "failed"].includes(st.report.state);
     if (!view) view = buildView(st);
     if (key !== lastKey) {
       lastKey = key;
       view.update(st);
     }
-    if (ACTIVE.has(st.status)) timer = setTimeout(poll, 1500);
+    if (ACTIVE.has(st.status) || building) timer = setTimeout(poll, 1500);
   }
 
   function renderHead(st) {
@@ -83,11 +84,32 @@ export default async function render(main, ctx) {
       h("div", { class: "card" }, h("div", { class: "row" },
         h("div", { class: "grow" }, progressBar(st.progress, "Study progress", studyBarStatus(st))),
         h("span", { id: "study-counts" }, `${st.n_jobs} jobs: ${Object.entries(st.counts).map(([k, v]) => `${v} ${k}`).join(", ") || "none"}`)),
-      h("p", { class: "small muted" }, axes.join(" · "), ` · created ${when(st.created_at)}`)));
+      h("p", { class: "small muted" }, axes.join(" · "), ` · created ${when(st.created_at)}`)),
+      st.report ? reportCard(st.report) : null);
+  }
+
+  /** The report of a paper report study: its state, and "Open report" once it is built. */
+  function reportCard(rep) {
+    const verdicts = Object.entries(rep.counts || {}).map(([k, v]) => `${v} ${k}`).join(", ");
+    const state = {
+      waiting: `Waiting for the runs: ${rep.message}.`,
+      queued: "Every run has finished; the report's build is queued.",
+      running: `Building the report: ${rep.message} (${Math.round(100 * (rep.progress || 0))} %).`,
+      ready: `The report is ready${verdicts ? ` (claims: ${verdicts})` : ""}.`,
+      failed: `No report: ${rep.error || rep.message}.`,
+    }[rep.state] || rep.message;
+    return h("section", { class: "card", id: "study-report", "aria-labelledby": "study-report-title" },
+      h("h2", { id: "study-report-title" }, "Paper report ", h("span", { class: `badge st-${{ ready: "succeeded", waiting: "queued" }[rep.state] || rep.state}` }, rep.state)),
+      h("p", { id: "study-report-state" }, state),
+      rep.state === "ready" ? h("div", { class: "actions" },
+        h("a", { class: "btn btn-primary", id: "open-report", href: rep.links.html, target: "_blank", rel: "noopener" }, "Open report"),
+        h("a", { class: "btn", id: "report-summary", href: rep.links.summary, target: "_blank", rel: "noopener" }, "Claims (summary.json)")) : null,
+      rep.state === "running" || rep.state === "queued" ? progressBar(rep.progress || 0, "Report build") : null);
   }
 
   function buildView(st0) {
     const notesEl = h("div");
+    const sectionsEl = h("div");
     const pointsBox = h("div");
     const state = { dir: ["z", "y"].includes(ctx.query.dir) ? ctx.query.dir : "both", points: null, frQ: "sperling", tablePoint: "" };
     let st = st0;
@@ -95,14 +117,20 @@ export default async function render(main, ctx) {
     let catalogueFrom = null;
     const sync = () => replaceQuery({ tab: state.tab, dir: state.dir === "both" ? "" : state.dir });
     const dirs = () => (state.dir === "both" ? ["z", "y"] : [state.dir]);
+    const seedsAxis = () => (st.axes || []).find((a) => a.name === "seed");
+    /** What the error bars are, when the study has irregularity realisations. */
+    const ciNote = (extra = "") => {
+      const ax = seedsAxis();
+      return ax && ax.values.length > 1 ? ` Values are means over ${ax.values.length} irregularity realisations; error bars the 95 % confidence interval of the mean (Student t)${extra}.` : "";
+    };
 
     // Sperling vs speed and peak vs speed: one panel per condition / group and direction
     const spCard = plotCard({ title: "Sperling index against speed", id: "plot-sperling-speed", description: "Sperling index against running speed: one panel per condition and direction, one colour per point", height: 520,
-      csv: () => ({ header: ["group", "point", "direction", "speed (km/h)", "Sperling W", "job"], rows: st.tables.sperling_vs_speed.flatMap((r) => r.speed_kmh.map((v, i) => [groupLabel(r.group), r.point, r.direction, v, r.value[i], r.job_ids[i]])) }) });
+      csv: () => ({ header: ["group", "point", "direction", "speed (km/h)", "Sperling W (mean)", "95 % CI half width", "realisations", "section", "job"], rows: st.tables.sperling_vs_speed.flatMap((r) => r.speed_kmh.map((v, i) => [groupLabel(r.group), r.point, r.direction, v, r.value[i], r.ci95?.[i], r.n?.[i], r.sections?.[i], r.job_ids[i]])) }) });
     const pkCard = plotCard({ title: "Peak acceleration against speed", id: "plot-peak-speed", description: "Largest absolute acceleration against running speed with least-squares lines: one panel per condition and direction", height: 520,
-      csv: () => ({ header: ["group", "point", "direction", "speed (km/h)", "peak (m/s²)", "fit slope", "fit intercept", "R²", "job"], rows: st.tables.peak_vs_speed.flatMap((r) => r.speed_kmh.map((v, i) => [groupLabel(r.group), r.point, r.direction, v, r.value[i], r.fit?.slope, r.fit?.intercept, r.fit?.r_squared, r.job_ids[i]])) }) });
+      csv: () => ({ header: ["group", "point", "direction", "speed (km/h)", "peak (m/s², mean)", "95 % CI half width", "realisations", "section", "fit slope", "fit intercept", "R²", "job"], rows: st.tables.peak_vs_speed.flatMap((r) => r.speed_kmh.map((v, i) => [groupLabel(r.group), r.point, r.direction, v, r.value[i], r.ci95?.[i], r.n?.[i], r.sections?.[i], r.fit?.slope, r.fit?.intercept, r.fit?.r_squared, r.job_ids[i]])) }) });
     const frCard = plotCard({ title: "Flexible against rigid", id: "plot-flex-rigid", description: "Difference flexible − rigid in percent of rigid, per point and direction", height: 380,
-      csv: () => ({ header: ["case", "speed (km/h)", "point", "direction", "quantity", "rigid", "flexible", "difference", "relative"], rows: (st.tables.flexible_vs_rigid || []).map((r) => [caseLabel(r), r.speed_kmh, r.point, r.direction, r.quantity, r.rigid, r.flexible, r.difference, r.relative]) }) });
+      csv: () => ({ header: ["case", "speed (km/h)", "point", "direction", "quantity", "rigid", "flexible", "difference", "relative", "relative 95 % CI half width", "realisations", "section"], rows: (st.tables.flexible_vs_rigid || []).map((r) => [caseLabel(r), r.speed_kmh, r.point, r.direction, r.quantity, r.rigid, r.flexible, r.difference, r.relative, r.relative_ci95, r.n, r.section]) }) });
     const spControls = h("div", { class: "controls" });
     const pkControls = h("div", { class: "controls" });
     spCard.setControls(spControls);
@@ -176,7 +204,7 @@ export default async function render(main, ctx) {
       }
       controls(spControls, rows, "sp");
       const sel = await drawFacets(spCard, rows, { yTitle: (d) => `W ${DIRECTION_NAMES[d]} (–)`, limits: [[2.5, "excellent < 2.5"], [2.75, "good < 2.75"], [3.0, "qualified ≤ 3.0"]], mode: "lines+markers" });
-      if (sel.length) spCard.setNote(`One panel per condition${dirs().length > 1 ? " and direction" : ""} (${facetPanels(groupsOf(rows), dirs()).length} panels), one colour per point, the same in every chart. GB 5599 grades as dotted lines. Click a point to open its job.`);
+      if (sel.length) spCard.setNote(`One panel per condition${dirs().length > 1 ? " and direction" : ""} (${facetPanels(groupsOf(rows), dirs()).length} panels), one colour per point, the same in every chart. GB 5599 grades as dotted lines.${ciNote()} Click a point to open its job (the first realisation).`);
     }
 
     async function drawPeak() {
@@ -193,7 +221,7 @@ export default async function render(main, ctx) {
         setChildren(fitTable);
         return;
       }
-      pkCard.setNote("Least-squares lines dashed (R² in the table below and on hover). Click a point to open its job.");
+      pkCard.setNote(`Least-squares lines dashed (R² in the table below and on hover).${ciNote()} Click a point to open its job.`);
       setChildren(fitTable, dataTable([
         { key: "group", label: "Group" }, { key: "point", label: "Point", format: (v) => pointTag(v, catalogue) },
         { key: "direction", label: "Direction", format: (v) => DIRECTION_NAMES[v] || v },
@@ -224,7 +252,7 @@ export default async function render(main, ctx) {
       setChildren(frControls, simpleSelect("fr-quantity", "Quantity", qs.map((q) => [q, QN[q] || q]), state.frQ, (v) => { state.frQ = v; drawFlexRigid(); }));
       const fig = flexRigidFigure(sel, { caseLabel: caseKey, catalogue, order: pointsOf(sel), quantity: QN[state.frQ] || state.frQ });
       await frCard.draw(fig.data, fig.layout);
-      frCard.setNote("Bars: flexible − rigid in percent of rigid (the paper's Table 2); positive: the flexible body is the worse. Hover for both values.");
+      frCard.setNote(`Bars: flexible − rigid in percent of rigid (the paper's Table 2); positive: the flexible body is the worse.${ciNote(" (the ratio realisation by realisation, on the same track)")} Hover for both values.`);
       setChildren(frTable, flexRigidTable(sel), flexRigidLinks(sel));
     }
 
@@ -238,15 +266,15 @@ export default async function render(main, ctx) {
           const at = (d) => of.find((r) => r.point === point && r.direction === d) || {};
           const [z, y] = [at("z"), at("y")];
           const any = z.rigid_job ? z : y;
-          rows.push({ case: c, point, rz: z.rigid, fz: z.flexible, dz: z.relative, ry: y.rigid, fy: y.flexible, dy: y.relative, rigid_job: any.rigid_job, flexible_job: any.flexible_job });
+          rows.push({ case: c, point, rz: z.rigid, fz: z.flexible, dz: z.relative, cz: z.relative_ci95, ry: y.rigid, fy: y.flexible, dy: y.relative, cy: y.relative_ci95, rigid_job: any.rigid_job, flexible_job: any.flexible_job });
         }
       }
       const sign = (v) => Math.sign(Number((100 * (v ?? 0)).toFixed(1)));
-      const diff = (v) => h("span", { class: `nowrap ${sign(v) > 0 ? "pos" : sign(v) < 0 ? "neg" : ""}` }, pct(v));
+      const diff = (v, ci) => h("span", { class: `nowrap ${sign(v) > 0 ? "pos" : sign(v) < 0 ? "neg" : ""}` }, pct(v), ci == null ? "" : ` ± ${fixed(100 * ci, 1)}`);
       const dirCols = (k) => [
         { key: `r${k}`, label: "Rigid", num: true, sep: true, format: (v) => fmt(v, 3) },
         { key: `f${k}`, label: "Flexible", num: true, format: (v) => fmt(v, 3) },
-        { key: `d${k}`, label: "Δ (%)", num: true, title: "flexible − rigid, in percent of rigid", format: diff },
+        { key: `d${k}`, label: "Δ (%)", num: true, title: "flexible − rigid, in percent of rigid (± the 95 % confidence interval over the realisations)", format: (v, r) => diff(v, r[`c${k}`]) },
       ];
       const many = cases.length > 1;
       return dataTable([
@@ -268,14 +296,31 @@ export default async function render(main, ctx) {
         h("a", { href: `#/compare?jobs=${r.rigid_job},${r.flexible_job}&ref=${r.rigid_job}&channel=carbody.${centre}.acc.z` }, "overlay (differences against rigid)"))));
     }
 
+    /** Where each index is evaluated: the section per group and speed (the same for every
+     * point and direction of a group). */
+    function sectionsCard(rows) {
+      const seen = new Map();
+      for (const r of rows) {
+        (r.sections || []).forEach((sec, i) => {
+          const key = `${groupLabel(r.group)}|${r.speed_kmh[i]}`;
+          if (!seen.has(key)) seen.set(key, { group: groupLabel(r.group), speed: r.speed_kmh[i], section: sec });
+        });
+      }
+      if (!seen.size) return null;
+      return h("details", { class: "card", id: "study-sections" }, h("summary", {}, "Evaluated sections (where every index of the tables and charts is taken)"),
+        dataTable([{ key: "group", label: "Group" }, { key: "speed", label: "Speed (km/h)", num: true }, { key: "section", label: "Section (vehicle centre along the line)" }],
+          [...seen.values()], { caption: "Each job's indices are those of this section of its run", className: "table-scroll" }));
+    }
+
     function drawJobs() {
       const sp = st.tables.sperling_vs_speed || [];
       const pk = st.tables.peak_vs_speed || [];
       const allPts = pointsOf([...sp, ...pk]);
       if (!allPts.includes(state.tablePoint)) state.tablePoint = allPts[0] || "";
       const val = (rows, jid, p, d) => {
-        const r = rows.find((x) => x.point === p && x.direction === d && x.job_ids.includes(jid));
-        return r ? r.value[r.job_ids.indexOf(jid)] : null;
+        const r = rows.find((x) => x.point === p && x.direction === d && (x.job_values ? jid in x.job_values : x.job_ids.includes(jid)));
+        if (!r) return null;
+        return r.job_values ? r.job_values[jid] : r.value[r.job_ids.indexOf(jid)];
       };
       const axisNames = (st.axes || []).map((a) => a.name);
       const p = state.tablePoint;
@@ -317,12 +362,13 @@ export default async function render(main, ctx) {
     };
     state.tab = ctx.query.tab || "sperling";
     setChildren(pointsBox, pointsCard(catalogue, { id: "points-card", open: false, note: "Positions appear when a job of the study has finished." }));
-    setChildren(body, notesEl, pointsBox, t.el);
+    setChildren(body, notesEl, sectionsEl, pointsBox, t.el);
     return {
       async update(next) {
         st = next;
         const notes = st.tables.notes || [];
         setChildren(notesEl, notes.length ? notice("info", null, h("ul", {}, notes.map((n) => h("li", {}, n)))) : null);
+        setChildren(sectionsEl, sectionsCard(st.tables.sperling_vs_speed?.length ? st.tables.sperling_vs_speed : st.tables.peak_vs_speed || []));
         await refreshCatalogue();
         drawAll().catch((e) => console.warn(e));
       },

@@ -145,3 +145,37 @@ def test_study_presets_endpoints(sqlite_client):
     one = sqlite_client.get(f"{API}/study-presets/paper-table2").json()
     assert one["request"]["body_models"] == ["rigid", "flexible"]
     assert sqlite_client.get(f"{API}/study-presets/nope").status_code == 404
+
+
+def test_seeds_make_n_jobs_per_condition_with_distinct_seeds(client):
+    body = {"name": "seeds", "base": {"preset": "paper-metro", "overrides": QUICK},
+            "conditions": ["random-straight", "random-curve"], "speeds_kmh": [60, 80],
+            "overrides": QUICK}
+    one = client.post(f"{API}/studies", json=body)
+    three = client.post(f"{API}/studies", json={**body, "seeds": 3})
+    assert one.status_code == three.status_code == 201, three.text
+    one, three = one.json(), three.json()
+    assert three["n_jobs"] == 3 * one["n_jobs"] == 12
+    assert three["axes"][-1] == {"name": "seed", "values": [1, 2, 3]}
+    seeds = {}
+    for j in three["jobs"]:
+        scen = client.get(f"{API}/jobs/{j['id']}/scenario").json()
+        key = (j["axes"]["condition"], j["axes"]["speed_kmh"])
+        seeds.setdefault(key, []).append(scen["excitation"][0]["seed"])
+        assert scen["excitation"][0]["seed"] == j["axes"]["seed"]
+    assert len(seeds) == 4 and all(sorted(v) == [1, 2, 3] for v in seeds.values())
+    _finish_all(client, three["id"])
+    rows = client.get(f"{API}/studies/{three['id']}").json()["tables"]["sperling_vs_speed"]
+    assert rows and all(r["n"] == [3, 3] for r in rows)
+    assert all(ci == pytest.approx(0.0) for r in rows for ci in r["ci95"])  # equal fakes
+
+
+@pytest.mark.parametrize("seeds", [0, 21, "many"])
+def test_seeds_out_of_range_is_422_with_field_and_range(sqlite_client, seeds):
+    r = sqlite_client.post(f"{API}/studies", json={
+        "base": {"preset": "paper-metro"}, "seeds": seeds, "overrides": QUICK})
+    assert r.status_code == 422, r.text
+    item = r.json()["detail"][0]
+    assert item["loc"] == ["body", "seeds"], r.text
+    if seeds != "many":
+        assert ("1" if seeds == 0 else "20") in item["msg"]

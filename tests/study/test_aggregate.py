@@ -55,3 +55,52 @@ def test_missing_values_and_failed_jobs():
         summary_value(s, "PC", "z", "bogus")
     t = study_tables([_job(0, 50, {"error": "boom"}), _job(1, 60, s, status="failed")])
     assert t["peak_vs_speed"] == [] and "boom" in t["notes"][0]
+
+
+def _t_ci(values):
+    """Hand computation of the 95 % CI half width: t_{0.975, n-1} · s / √n."""
+    import math
+
+    from scipy import stats
+
+    n = len(values)
+    mean = sum(values) / n
+    s = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1))
+    return mean, stats.t.ppf(0.975, n - 1) * s / math.sqrt(n)
+
+
+def test_seeds_mean_and_confidence_interval_against_student_t():
+    sp80 = [1.70, 1.82, 1.76]  # three realisations at 80 km/h
+    pk80 = [0.50, 0.61, 0.47]
+    jobs = [_job(k, 80, _summary(sp80[k - 1], pk80[k - 1]), seed=k, condition="c")
+            for k in (1, 2, 3)]
+    jobs += [_job(10 + k, 60, _summary(1.5, 0.4), seed=k, condition="c") for k in (1, 2)]
+    t = study_tables(jobs)
+    (sp,) = t["sperling_vs_speed"]
+    assert sp["speed_kmh"] == [60.0, 80.0] and sp["n"] == [2, 3]
+    mean, half = _t_ci(sp80)
+    assert sp["value"][1] == pytest.approx(mean) and sp["ci95"][1] == pytest.approx(half)
+    assert half == pytest.approx(4.303 * 0.06 / 3 ** 0.5, rel=1e-3)  # t(0.975, 2) = 4.303
+    assert sp["ci95"][0] == pytest.approx(0.0)  # two equal values
+    assert sp["jobs"][1] == ["j1", "j2", "j3"] and sp["job_ids"] == ["j11", "j1"]
+    assert sp["job_values"]["j2"] == 1.82
+    (pk,) = t["peak_vs_speed"]
+    m60, m80 = 0.4, sum(pk80) / 3
+    assert pk["fit"]["slope"] == pytest.approx((m80 - m60) / 20)  # the line through the means
+
+
+def test_seeds_flexible_vs_rigid_paired_by_realisation():
+    rigid, flex = [1.0, 2.0, 4.0], [1.1, 2.4, 4.4]
+    jobs = [_job(k, 80, _summary(rigid[k - 1], 1.0), body_model="rigid", seed=k)
+            for k in (1, 2, 3)]
+    jobs += [_job(10 + k, 80, _summary(flex[k - 1], 1.0), body_model="flexible", seed=k)
+             for k in (1, 2, 3)]
+    rows = study_tables(jobs)["flexible_vs_rigid"]
+    sp = next(r for r in rows if r["quantity"] == "sperling")
+    assert sp["group"] == {"speed_kmh": 80} and sp["n"] == 3
+    rel = [f / r - 1 for r, f in zip(rigid, flex, strict=True)]  # 0.1, 0.2, 0.1
+    assert sp["relative"] == pytest.approx(_t_ci(rel)[0])
+    assert sp["relative_ci95"] == pytest.approx(_t_ci(rel)[1])
+    assert sp["rigid_ci95"] == pytest.approx(_t_ci(rigid)[1])
+    assert sp["difference"] == pytest.approx(_t_ci([0.1, 0.4, 0.4])[0])
+    assert sp["rigid_job"] == "j1" and sp["flexible_job"] == "j11"

@@ -76,3 +76,27 @@ def test_custom_conditions_parameters_and_names():
 def test_bad_studies(request_, error, match):
     with pytest.raises(error, match=match):
         expand_study(request_, max_jobs=10)
+
+
+def test_seeds_axis_realisations_per_random_condition():
+    from flexride.paper.plan import RunSpec
+
+    plan = expand_study({"preset": "paper-table3", "speeds_kmh": [80.0],
+                         "conditions": ["random-curve", "settlement"], "seeds": 3,
+                         "overrides": QUICK}, max_jobs=100)
+    assert [a.name for a in plan.axes][-1] == "seed"
+    random = [j for j in plan.jobs if j.axes["condition"] == "random-curve"]
+    assert [j.axes["seed"] for j in random] == [1, 2, 3]
+    assert [j.scenario.excitation[0].seed for j in random] == [1, 2, 3]
+    # settlement has no random irregularity: one realisation, not three copies
+    assert [j.axes["seed"] for j in plan.jobs if j.axes["condition"] == "settlement"] == [1]
+    assert [j.index for j in plan.jobs] == [0, 1, 2, 3]
+    # the paper report's realisation k is the same track
+    spec = RunSpec("random-curve", 80.0, "rigid", 3, 100.0, (0.0, 100.0))
+    assert spec.scenario().excitation[0].seed == random[2].scenario.excitation[0].seed
+
+
+def test_seeds_count_from_the_scenarios_own_seed():
+    plan = expand_study({"base": {"preset": "paper-random-straight-80", "overrides": QUICK},
+                         "seeds": 2, "overrides": {"excitation.0.seed": 7}}, max_jobs=10)
+    assert [j.scenario.excitation[0].seed for j in plan.jobs] == [7, 8]

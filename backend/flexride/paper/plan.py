@@ -15,7 +15,7 @@ Study-fidelity rules (stated in the report):
   the same track.
 * **Same track for both models.** The rigid and the flexible run of a condition and speed use
   the same irregularity seed; ``seeds`` > 1 adds realisations 2, 3, … (seed 1 is the
-  presets').
+  presets'; :mod:`flexride.study.seeds`, the rule of the service's studies too).
 * **Flexible cut-off follows the excitation.** Elastic modes are kept up to
   max(the scenario's cut-off, 1.5 × the highest excitation frequency V/λ_min of the condition
   over the study's speeds, rounded up to 10 Hz): corrugation of 0.5 m at 80 km/h excites
@@ -36,6 +36,7 @@ from flexride.errors import FlexrideError
 from flexride.scenario.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH, PAPER_VEHICLE
 from flexride.scenario.presets import load_preset as _load_preset
 from flexride.scenario.scenario import Scenario
+from flexride.study.seeds import is_random, realisations, seed_overrides
 from flexride.track.spectra import RANDOM_FADE_IN_M
 
 __all__ = [
@@ -45,13 +46,15 @@ __all__ = [
     "ReportError",
     "ReportOptions",
     "RunSpec",
+    "Section",
     "build_plan",
+    "section_of",
 ]
 
 CONDITIONS: tuple[str, ...] = tuple(PAPER_CONDITIONS)
 """Table 3's conditions: random-straight, random-curve, corrugation, settlement."""
 
-RANDOM_CONDITIONS = frozenset({"random-straight", "random-curve"})
+RANDOM_CONDITIONS = frozenset(c for c in CONDITIONS if is_random(PAPER_CONDITIONS[c][2]))
 """Conditions with a random irregularity (several realisations make sense)."""
 
 BODY_MODELS: tuple[str, ...] = ("rigid", "flexible")
@@ -152,6 +155,16 @@ class ReportOptions:
         d["overrides"] = dict(self.overrides)
         return d
 
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> ReportOptions:
+        """The options of :meth:`to_dict`'s JSON form (a service study keeps them)."""
+        d = dict(data)
+        for key in ("speeds", "conditions"):
+            if d.get(key) is not None:
+                d[key] = tuple(d[key])
+        d["overrides"] = tuple((d.get("overrides") or {}).items())
+        return cls(**d)
+
 
 @dataclass(frozen=True)
 class RunSpec:
@@ -199,7 +212,7 @@ class RunSpec:
                     "speed_kmh": float(self.speed_kmh), "distance_m": float(self.distance_m),
                     "duration_s": None})
         if self.seed is not None:
-            out["excitation.0.seed"] = int(self.seed)
+            out.update(seed_overrides(PAPER_CONDITIONS[self.condition][2], self.seed))
         for part in ("carbody", "frames"):
             out[f"bodies.{part}.model"] = self.body
             if self.body == "flexible" and self.cutoff_hz is not None:
@@ -225,6 +238,87 @@ class RunSpec:
         d["overrides"] = dict(self.overrides)
         return d
 
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> RunSpec:
+        """The run of :meth:`to_dict`'s JSON form (same :meth:`key`)."""
+        d = dict(data)
+        d["window_m"] = (float(d["window_m"][0]), float(d["window_m"][1]))
+        d["overrides"] = tuple((d.get("overrides") or {}).items())
+        return cls(**d)
+
+
+@dataclass(frozen=True)
+class Section:
+    """The stretch of a run its indices are evaluated on (positions of the vehicle centre
+    along the line, m), and the rule that chose it.
+
+    Attributes
+    ----------
+    start_m, end_m : float
+        The section (m).
+    min_end_m : float
+        End it may not be shortened below (a shortened run, m).
+    rule : str
+        ``arc`` (every wheelset on the circular arc), ``curve`` (every wheelset on the curve,
+        transitions included), ``settlement`` (smooth track before the dip to the end),
+        ``after-fade-in`` (from :data:`START_SKIP_M` on) or ``run`` (the whole run).
+    """
+
+    start_m: float
+    end_m: float
+    min_end_m: float
+    rule: str
+
+    def label(self) -> str:
+        """e.g. ``arc (every wheelset on the circular arc) 102.4–287.6 m``."""
+        what = {"arc": "every wheelset on the circular arc",
+                "curve": "every wheelset on the curve, transitions included",
+                "settlement": "the whole run: smooth track, the dip and 20 m after it",
+                "after-fade-in": f"from {START_SKIP_M:g} m on: after the random profile's "
+                                 "fade-in and the wheelsets' spread",
+                "run": "the whole run"}[self.rule]
+        return f"{self.rule} ({what}) {self.start_m:.1f}–{self.end_m:.1f} m"
+
+
+SECTION_CURVE_RULES = ("arc", "curve")
+"""How a curve is evaluated: its circular arc only (the report's rule), or the whole curve."""
+
+
+def section_of(line: dict[str, Any], excitation: list[dict[str, Any]], distance: float,
+               half_extent: float, curve: str = "arc") -> Section:
+    """The section a run of a line and excitation is evaluated on (the report's rules).
+
+    Parameters
+    ----------
+    line : dict
+        The scenario's ``line`` (JSON form).
+    excitation : list of dict
+        The scenario's ``excitation`` (JSON form).
+    distance : float
+        Length of the run (m).
+    half_extent : float
+        Distance from the vehicle centre to the outer wheelsets (m).
+    curve : {"arc", "curve"}
+        On a curve: the circular arc, or the whole curve with its transitions.
+    """
+    if line.get("kind") == "curve":
+        s0 = float(line.get("start_m", 0.0))
+        entry, arc = float(line["entry_transition_m"]), float(line["arc_length_m"])
+        if curve == "arc":
+            return Section(s0 + entry + half_extent, s0 + entry + arc - half_extent,
+                           s0 + entry + half_extent, "arc")
+        end = s0 + entry + arc + float(line.get("exit_transition_m", entry))
+        return Section(s0 + half_extent, end - half_extent, s0 + half_extent, "curve")
+    dips = [e for e in excitation if e.get("kind") == "settlement"]
+    if dips:
+        dip_end = max(float(e["position_m"]) + float(e["wavelength_m"]) for e in dips)
+        return Section(SETTLEMENT_START_M, distance,
+                       dip_end + half_extent + SETTLEMENT_DECAY_M, "settlement")
+    if excitation:
+        start = max(START_SKIP_M, RANDOM_FADE_IN_M + half_extent)
+        return Section(start, distance, start, "after-fade-in")
+    return Section(0.0, distance, 0.0, "run")
+
 
 def full_window(condition: str) -> tuple[float, float, float]:
     """Evaluated stretch of a full run and the end it may not be shortened below (m).
@@ -235,16 +329,8 @@ def full_window(condition: str) -> tuple[float, float, float]:
         Positions of the vehicle centre along the line (m).
     """
     _, line, exc, distance = PAPER_CONDITIONS[condition]
-    half = _half_extent()
-    if condition == "random-curve":
-        arc0 = float(line["start_m"]) + float(line["entry_transition_m"])
-        arc1 = arc0 + float(line["arc_length_m"])
-        return arc0 + half, arc1 - half, arc0 + half
-    if condition == "settlement":
-        dip_end = float(exc[0]["position_m"]) + float(exc[0]["wavelength_m"])
-        return SETTLEMENT_START_M, distance, dip_end + half + SETTLEMENT_DECAY_M
-    start = max(START_SKIP_M, RANDOM_FADE_IN_M + half)
-    return start, distance, start
+    sec = section_of(line, exc, float(distance), _half_extent())
+    return sec.start_m, sec.end_m, sec.min_end_m
 
 
 def run_window(condition: str, speed_kmh: float, scale: float,
@@ -298,7 +384,7 @@ def build_plan(options: ReportOptions) -> list[RunSpec]:
     specs = []
     for cond in options.conditions:
         cutoff = flexible_cutoff(cond, options.speeds, base)
-        seeds: list[int | None] = (list(range(1, options.seeds + 1))
+        seeds: list[int | None] = (list(realisations(options.seeds))
                                    if cond in RANDOM_CONDITIONS else [None])
         for v in options.speeds:
             distance, window = run_window(cond, v, scale, options.min_eval_s)

@@ -19,7 +19,7 @@ from flexride.errors import AnalysisError
 from flexride.paper.plan import RECORD_VERSION, RunSpec
 from flexride.results import Results
 
-__all__ = ["execute", "window_results"]
+__all__ = ["execute", "record_from_results", "window_results"]
 
 SERIES_RATE_HZ = 250.0
 """Rate of the stored time histories (Hz; decimated with an anti-aliasing filter)."""
@@ -168,6 +168,22 @@ def execute(spec: RunSpec) -> dict[str, Any]:
 
     t0 = time.perf_counter()
     results = simulate(spec.scenario())
+    return record_from_results(spec, results, t0)
+
+
+def record_from_results(spec: RunSpec, results: Results, t0: float) -> dict[str, Any]:
+    """The record of one run from its results: cut the evaluated stretch, analyse it
+    (:func:`compact_record`). Also how the service's report study reads its jobs' files.
+
+    Parameters
+    ----------
+    spec : RunSpec
+        The run the results are of.
+    results : Results
+        The whole run.
+    t0 : float
+        ``time.perf_counter()`` when the run started (the record's wall time ends now).
+    """
     window = window_results(results, spec.window_m)
     summary = analyze(window, arrays=True)
     return compact_record(spec, summary, window, time.perf_counter() - t0)

@@ -36,6 +36,9 @@ PAPER_TITLE = ("Dynamic evaluation on ride comfort of metro vehicle considering 
                "flexibility")
 
 Progress = Callable[[str, int, int], None]
+Runs = Callable[[list[RunSpec], Progress], RunOutcome]
+"""``runs(plan, progress)``: the records of the plan's runs (default: :func:`run_study` with
+the report directory's cache; the service reads its jobs' result files)."""
 
 
 @dataclass
@@ -137,7 +140,8 @@ def _write_json(path: Path, data: Any) -> None:
 
 
 def run_report(directory: str | Path, options: ReportOptions | None = None,
-               progress: Progress | None = None) -> ReportResult:
+               progress: Progress | None = None, *, plan: list[RunSpec] | None = None,
+               runs: Runs | None = None) -> ReportResult:
     """Run the paper's study and write its report into ``directory``.
 
     Parameters
@@ -148,6 +152,12 @@ def run_report(directory: str | Path, options: ReportOptions | None = None,
         What to run (default: the full study, one seed, one job per core).
     progress : callable(message, done, total), optional
         Called at each step and after every run.
+    plan : list of RunSpec, optional
+        The runs (default :func:`build_plan` of ``options``; the service passes the plan its
+        study was made with).
+    runs : callable(plan, progress) -> RunOutcome, optional
+        Where the run records come from (default: simulated here, cached in
+        ``directory/runs``).
 
     Returns
     -------
@@ -165,10 +175,13 @@ def run_report(directory: str | Path, options: ReportOptions | None = None,
     options = (options or ReportOptions()).checked()
     out = Path(directory)
     _check_directory(out)
-    plan = build_plan(options)
+    plan = build_plan(options) if plan is None else plan
     say("Table 1: modal analysis of the car body", 0, len(plan))
     modal = car_body_modes(options)
-    outcome = run_study(plan, RunCache(out / "runs"), options.jobs or 1, say)
+    if runs is None:
+        outcome = run_study(plan, RunCache(out / "runs"), options.jobs or 1, say)
+    else:
+        outcome = runs(plan, say)
     data = StudyData(outcome.records, modal)
     say("judging the claims and drawing the figures", len(plan), len(plan))
     claims = [r.to_dict() for r in evaluate_all(data)]

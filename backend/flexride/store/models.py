@@ -15,10 +15,11 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, deferred, mapped_column
 
 JOB_STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINAL_STATUSES = ("succeeded", "failed", "cancelled")
-JOB_KINDS = ("simulation", "fe_export")
+JOB_KINDS = ("simulation", "fe_export", "paper_report")
 """What a job does: run a scenario (``simulation``), or build the browser export of an FE body
 (``fe_export``: its :class:`~flexride.fem.export.ExportSpec` is the job's ``scenario``, its
-content key the ``scenario_hash``)."""
+content key the ``scenario_hash``), or build the report of a paper report study
+(``paper_report``: ``scenario`` ``{"study_id"}``, :mod:`flexride.study.report`)."""
 
 
 class Base(DeclarativeBase):

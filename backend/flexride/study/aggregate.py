@@ -8,6 +8,16 @@ The summaries are those of :meth:`flexride.analysis.Summary.to_dict`:
   (the paper's Fig. 21);
 * ``flexible_vs_rigid`` — per case, point and direction: Sperling index, ISO weighted rms,
   rms and peak of the flexible and the rigid model, their difference and ratio (Table 2).
+
+Each job's indices are those of its evaluated section (``summary["section"]``,
+:mod:`flexride.study.sections`) where it has one, else of the whole run; every row states it
+(``sections`` per speed, ``section`` of a flexible/rigid row).
+
+With a ``seed`` axis (irregularity realisations) every value is the mean over the
+realisations with the half width of its 95 % confidence interval (``ci95``, Student t:
+:func:`flexride.paper.measures.mean_ci`, the paper report's; None for one realisation) and the
+number of realisations ``n``; the fit is made on the means, the flexible/rigid difference and
+ratio realisation by realisation (same track) and then averaged.
 """
 
 from __future__ import annotations
@@ -18,6 +28,7 @@ from typing import Any
 
 from flexride.analysis import linear_regression
 from flexride.errors import AnalysisError
+from flexride.study.seeds import SEED_AXIS
 
 _FIRST_WEIGHTING = {"z": "Wb", "y": "Wd", "x": "Wd"}
 _UNITS = {"sperling": "-", "peak": "m/s^2", "rms": "m/s^2", "a_w": "m/s^2"}
@@ -59,7 +70,22 @@ def _points(summaries: Sequence[dict[str, Any]]) -> list[tuple[str, str]]:
 
 
 def _group_key(axes: dict[str, Any], drop: str) -> tuple:
-    return tuple((k, v) for k, v in axes.items() if k != drop)
+    return tuple((k, v) for k, v in axes.items() if k not in (drop, SEED_AXIS))
+
+
+def _estimate(values: Sequence[float | None]) -> tuple[float | None, float | None, int]:
+    """Mean, 95 % CI half width (None for fewer than two values) and count of the values
+    that are not None (None, None, 0 when there are none).
+    """
+    # imported here: flexride.paper's report reads summary_value from this module
+    from flexride.paper.measures import mean_ci
+
+    present = [v for v in values if v is not None]
+    if not present:
+        return None, None, 0
+    e = mean_ci(present)
+    ci = e.ci95 if e.ci95 is not None and math.isfinite(e.ci95) else None
+    return e.mean, ci, e.n
 
 
 def _fit(x: list[float], y: list[float | None], unit: str) -> dict[str, Any] | None:
@@ -87,21 +113,38 @@ def _speed_series(jobs: Sequence[dict[str, Any]], quantity: str,
         groups.setdefault(_group_key(j["axes"], "speed_kmh"), []).append(j)
     out = []
     for key, members in groups.items():
-        members = sorted(members, key=lambda j: j["speed_kmh"])
+        by_speed: dict[float, list[dict[str, Any]]] = {}
+        for m in sorted(members, key=lambda j: (j["speed_kmh"], j["axes"].get(SEED_AXIS, 0))):
+            by_speed.setdefault(float(m["speed_kmh"]), []).append(m)
         for point, direction in _points([m["summary"] for m in members]):
             if quantity == "sperling" and direction == "x":
                 continue
-            values = [summary_value(m["summary"], point, direction, quantity) for m in members]
-            if all(v is None for v in values):
+            row = _series_row(dict(key), point, direction, quantity, by_speed)
+            if row is None:
                 continue
-            speeds = [float(m["speed_kmh"]) for m in members]
-            row = {"group": dict(key), "point": point, "direction": direction,
-                   "quantity": quantity, "unit": _UNITS[quantity], "speed_kmh": speeds,
-                   "value": values, "job_ids": [m["id"] for m in members], "fit": None}
             if with_fit:
-                row["fit"] = _fit(speeds, values, _UNITS[quantity])
+                row["fit"] = _fit(row["speed_kmh"], row["value"], _UNITS[quantity])
             out.append(row)
     return out
+
+
+def _series_row(group: dict[str, Any], point: str, direction: str, quantity: str,
+                by_speed: dict[float, list[dict[str, Any]]]) -> dict[str, Any] | None:
+    """One series: per speed the mean, CI and count over the realisations, the first job
+    (``job_ids``), every job (``jobs``) and each job's own value (``job_values``).
+    """
+    job_values = {m["id"]: summary_value(m["summary"], point, direction, quantity)
+                  for ms in by_speed.values() for m in ms}
+    if all(v is None for v in job_values.values()):
+        return None
+    est = [_estimate([job_values[m["id"]] for m in ms]) for ms in by_speed.values()]
+    return {"group": group, "point": point, "direction": direction, "quantity": quantity,
+            "unit": _UNITS[quantity], "speed_kmh": list(by_speed),
+            "value": [e[0] for e in est], "ci95": [e[1] for e in est], "n": [e[2] for e in est],
+            "sections": [ms[0]["section"] for ms in by_speed.values()],
+            "job_ids": [ms[0]["id"] for ms in by_speed.values()],
+            "jobs": [[m["id"] for m in ms] for ms in by_speed.values()],
+            "job_values": job_values, "fit": None}
 
 
 def _flex_rigid(jobs: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -109,27 +152,56 @@ def _flex_rigid(jobs: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     for j in jobs:
         model = j["axes"].get("body_model")
         if model in ("rigid", "flexible"):
-            pairs.setdefault(_group_key(j["axes"], "body_model"), {})[model] = j
+            key = tuple((k, v) for k, v in j["axes"].items() if k != "body_model")
+            pairs.setdefault(key, {})[model] = j
+    cases: dict[tuple, list[dict[str, dict[str, Any]]]] = {}
+    for key, pair in sorted(pairs.items(), key=lambda kv: dict(kv[0]).get(SEED_AXIS) or 0):
+        if set(pair) == {"rigid", "flexible"}:
+            case = tuple((k, v) for k, v in key if k != SEED_AXIS)
+            cases.setdefault(case, []).append(pair)
     rows = []
-    for key, pair in pairs.items():
-        if set(pair) != {"rigid", "flexible"}:
-            continue
-        r, f = pair["rigid"], pair["flexible"]
-        for point, direction in _points([r["summary"], f["summary"]]):
+    for case, seeds in cases.items():
+        summaries = [p[m]["summary"] for p in seeds for m in ("rigid", "flexible")]
+        for point, direction in _points(summaries):
             for q in _COMPARED:
                 if q == "sperling" and direction == "x":
                     continue
-                a = summary_value(r["summary"], point, direction, q)
-                b = summary_value(f["summary"], point, direction, q)
-                if a is None and b is None:
-                    continue
-                diff = b - a if a is not None and b is not None else None
-                rel = diff / a if diff is not None and a not in (None, 0.0) else None
-                rows.append({"group": dict(key), "speed_kmh": r["speed_kmh"], "point": point,
-                             "direction": direction, "quantity": q, "rigid": a, "flexible": b,
-                             "difference": diff, "relative": rel, "rigid_job": r["id"],
-                             "flexible_job": f["id"]})
+                row = _flex_rigid_row(dict(case), seeds, point, direction, q)
+                if row is not None:
+                    rows.append(row)
     return rows
+
+
+def _flex_rigid_row(group: dict[str, Any], seeds: list[dict[str, dict[str, Any]]], point: str,
+                    direction: str, q: str) -> dict[str, Any] | None:
+    """Flexible against rigid over the realisations of one case: means ± CI of both values,
+    of their difference and of their ratio − 1 (each realisation on its own track).
+    """
+    a = [summary_value(p["rigid"]["summary"], point, direction, q) for p in seeds]
+    b = [summary_value(p["flexible"]["summary"], point, direction, q) for p in seeds]
+    if all(v is None for v in a + b):
+        return None
+    diff = [y - x if x is not None and y is not None else None for x, y in zip(a, b, strict=True)]
+    rel = [d / x if d is not None and x not in (None, 0.0) else None
+           for d, x in zip(diff, a, strict=True)]
+    (ra, ra_ci, _), (fb, fb_ci, _) = _estimate(a), _estimate(b)
+    (dm, d_ci, n), (rm, r_ci, _) = _estimate(diff), _estimate(rel)
+    first = seeds[0]
+    return {"group": group, "speed_kmh": first["rigid"]["speed_kmh"], "point": point,
+            "direction": direction, "quantity": q, "rigid": ra, "flexible": fb,
+            "difference": dm, "relative": rm, "rigid_ci95": ra_ci, "flexible_ci95": fb_ci,
+            "difference_ci95": d_ci, "relative_ci95": r_ci, "n": n,
+            "section": first["flexible"]["section"],
+            "rigid_job": first["rigid"]["id"], "flexible_job": first["flexible"]["id"]}
+
+
+def _evaluated(job: dict[str, Any]) -> dict[str, Any]:
+    """The job with the summary of its evaluated section and the section's label."""
+    sec = job["summary"].get("section") or {}
+    if isinstance(sec.get("summary"), dict) and "points" in sec["summary"]:
+        return {**job, "summary": sec["summary"], "section": sec.get("label", "section")}
+    why = f" (section not analysed: {sec['error']})" if sec.get("error") else ""
+    return {**job, "section": f"whole run{why}"}
 
 
 def study_tables(jobs: Sequence[dict[str, Any]]) -> dict[str, Any]:
@@ -158,7 +230,7 @@ def study_tables(jobs: Sequence[dict[str, Any]]) -> dict[str, Any]:
         if j.get("speed_kmh") is None:
             notes.append(f"job {j['id']}: no speed")
             continue
-        usable.append(j)
+        usable.append(_evaluated(j))
     pending = sum(1 for j in jobs if j.get("status") in ("queued", "running"))
     if pending:
         notes.append(f"{pending} job(s) not finished yet: tables are partial")

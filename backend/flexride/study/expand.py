@@ -2,8 +2,11 @@
 scenario, each job validated on its own.
 
 Axes, in this order: line/excitation ``conditions`` (the paper's by name, or custom sets of
-dotted-path values), ``speeds_kmh``, ``body_models`` (rigid/flexible car body and frames) and
-``parameters`` (any field by dotted path). ``overrides`` apply to every job last.
+dotted-path values), ``speeds_kmh``, ``body_models`` (rigid/flexible car body and frames),
+``parameters`` (any field by dotted path) and ``seeds`` (irregularity realisations 1 … N,
+:mod:`flexride.study.seeds`). ``overrides`` apply to every job, before the realisation's
+seeds; a job without a random irregularity has one realisation only. Each job is evaluated
+over the section of its ``section`` rule (:mod:`flexride.study.sections`).
 """
 
 from __future__ import annotations
@@ -17,6 +20,8 @@ from flexride.scenario.loading import safe_overrides
 from flexride.scenario.presets import PAPER_CONDITIONS, preset_dict
 from flexride.scenario.scenario import Scenario, resolve_preset_base, scenario_from_dict
 from flexride.study.presets import study_preset
+from flexride.study.sections import job_section
+from flexride.study.seeds import SEED_AXIS, is_random, realisations, seed_overrides
 
 
 class StudyTooLarge(ScenarioError):
@@ -45,12 +50,15 @@ class Axis:
 
 @dataclass
 class PlannedJob:
-    """One job of the matrix."""
+    """One job of the matrix; ``section`` the stretch its indices are evaluated on
+    (:func:`flexride.study.sections.job_section`; None: the whole run).
+    """
 
     index: int
     name: str
     axes: dict[str, Any]
     scenario: Scenario
+    section: dict[str, Any] | None = None
 
 
 @dataclass
@@ -123,6 +131,9 @@ def build_axes(req: dict[str, Any]) -> list[Axis]:
                                    "study")
         seen.add(path)
         axes.append(Axis(path, [Level(v, {path: v}) for v in p["values"]]))
+    if req.get("seeds"):
+        # the seeds depend on the job's excitation: set in _job_data, after the other axes
+        axes.append(Axis(SEED_AXIS, [Level(k, {}) for k in realisations(int(req["seeds"]))]))
     return axes
 
 
@@ -159,6 +170,12 @@ def expand_study(request: dict[str, Any], max_jobs: int) -> StudyPlan:
         message names the job's axis values and the field).
     """
     req = merge_with_preset(request)
+    from flexride.study.report import REPORT_PRESET, expand_report  # study.report imports us
+
+    if req.get("preset") == REPORT_PRESET:
+        return expand_report(req, max_jobs)
+    if req.get("quick") is not None:
+        raise ScenarioError.at(("quick",), "only for the paper-report preset", "study")
     if req.get("base") is None:
         raise ScenarioError.at(("base",), "a study needs a base scenario (or a study preset)",
                                "study")
@@ -176,16 +193,37 @@ def expand_study(request: dict[str, Any], max_jobs: int) -> StudyPlan:
     plan = StudyPlan(name=name, description=req.get("description") or "",
                      preset=req.get("preset"), reuse=bool(req.get("reuse", True)), axes=axes,
                      request=req)
-    for index, combo in enumerate(itertools.product(*(ax.levels for ax in axes))):
+    for combo in itertools.product(*(ax.levels for ax in axes)):
         labels = {ax.name: lv.label for ax, lv in zip(axes, combo, strict=True)}
-        where = ", ".join(f"{k}={_label(v)}" for k, v in labels.items()) or "base"
-        data = base
-        for lv in combo:
-            data = safe_overrides(data, lv.values, source=f"study job {index} ({where})",
-                                  loc=("parameters",))
-        data = safe_overrides(data, req.get("overrides"), source="overrides")
+        index = len(plan.jobs)
+        data = _job_data(base, combo, labels, req.get("overrides"), index)
+        if data is None:
+            continue
         job_name = " ".join([name, *(_label(v) for v in labels.values())])[:80]
         data = {**data, "name": job_name}
+        where = ", ".join(f"{k}={_label(v)}" for k, v in labels.items()) or "base"
         scenario = scenario_from_dict(data, source=f"study job {index} ({where})")
-        plan.jobs.append(PlannedJob(index=index, name=job_name, axes=labels, scenario=scenario))
+        plan.jobs.append(PlannedJob(index=index, name=job_name, axes=labels, scenario=scenario,
+                                    section=job_section(scenario, req.get("section") or "paper")))
     return plan
+
+
+def _job_data(base: dict[str, Any], combo: tuple[Level, ...], labels: dict[str, Any],
+              overrides: dict[str, Any] | None, index: int) -> dict[str, Any] | None:
+    """Scenario mapping of one combination of levels; None for a realisation > 1 of a job
+    without a random irregularity (it would repeat realisation 1).
+    """
+    where = ", ".join(f"{k}={_label(v)}" for k, v in labels.items()) or "base"
+    data = base
+    for lv in combo:
+        data = safe_overrides(data, lv.values, source=f"study job {index} ({where})",
+                              loc=("parameters",))
+    data = safe_overrides(data, overrides, source="overrides")
+    k = labels.get(SEED_AXIS)
+    if k is None:
+        return data
+    excitation = data.get("excitation") or []
+    if not is_random(excitation):
+        return data if k == 1 else None
+    return safe_overrides(data, seed_overrides(excitation, int(k)),
+                          source=f"study job {index} ({where})", loc=("seeds",))

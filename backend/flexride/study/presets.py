@@ -41,6 +41,16 @@ STUDY_PRESETS: dict[str, dict[str, Any]] = {
         "speeds_kmh": [float(v) for v in PAPER_SPEEDS_KMH],
         "body_models": ["rigid", "flexible"],
     },
+    "paper-report": {
+        "name": "paper-report",
+        "description": "The paper reproduced, as `flexride paper report` does it (docs/paper.md):"
+        " Table 3's 16 conditions rigid and flexible (32 runs; quick: 2 speeds, shorter "
+        "stretches, 16 runs; seeds N: N realisations of the random conditions), each evaluated"
+        " over its stated section; when all have finished the service builds the report "
+        "(index.html with every table, figure and claim beside the paper's, summary.json). "
+        "Only quick and seeds may be given.",
+        "quick": False,
+    },
 }
 
 

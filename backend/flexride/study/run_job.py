@@ -275,14 +275,33 @@ def run_simulation(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
     t_write = time.perf_counter()
     results.write_hdf5(ctx.files.path(name))
     t_analyze = time.perf_counter()
+    section = (job.run_meta or {}).get("section")
     try:
         summary: dict[str, Any] = analyze(results).to_dict()
+        if section:
+            summary["section"] = _section_summary(results, section)
     except FlexrideError as exc:
         summary = {"error": f"{type(exc).__name__}: {exc}"}
     meta = jsonable(results.meta)
+    if section:
+        meta["section"] = section
     meta["timings"] = run_timings(results.meta, t_analyze - t_write,
                                   time.perf_counter() - t_analyze)
     return Outcome({"summary": summary, "result_file": name, "run_meta": meta}, written=name)
+
+
+def _section_summary(results: Any, section: dict[str, Any]) -> dict[str, Any]:
+    """The section's own analysis (``{**section, "summary"}``) of a study job
+    (:mod:`flexride.study.sections`), cut as the paper report cuts its runs.
+    """
+    from flexride.analysis import analyze
+    from flexride.paper.record import window_results
+
+    try:
+        part = window_results(results, (float(section["start_m"]), float(section["end_m"])))
+        return {**section, "summary": analyze(part).to_dict()}
+    except FlexrideError as exc:  # the whole run's indices stand; the tables use them
+        return {**section, "error": f"{type(exc).__name__}: {exc}"}
 
 
 def run_fe_export(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
@@ -335,7 +354,17 @@ def run_fe_export(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
                                  "build_seconds": model.get("build_seconds")}})
 
 
-HANDLERS: dict[str, JobHandler] = {"simulation": run_simulation, "fe_export": run_fe_export}
+def run_paper_report(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
+    """A ``paper_report`` job: the report of a paper report study
+    (:func:`flexride.study.report.run_paper_report`).
+    """
+    from flexride.study.report import run_paper_report as run
+
+    return run(job, ctx, rep)
+
+
+HANDLERS: dict[str, JobHandler] = {"simulation": run_simulation, "fe_export": run_fe_export,
+                                   "paper_report": run_paper_report}
 """How each job kind (:data:`flexride.store.models.JOB_KINDS`) runs."""
 
 

@@ -108,7 +108,8 @@ class Submitter:
 
     def _record(self, scenario: Scenario, *, name: str, preset: str | None, reuse: bool,
                 study_id: str | None = None, index: int | None = None,
-                axes: dict[str, Any] | None = None) -> Submitted:
+                axes: dict[str, Any] | None = None,
+                section: dict[str, Any] | None = None) -> Submitted:
         self.admit(scenario)
         self.check_storage()
         t = now()
@@ -122,7 +123,8 @@ class Submitter:
                       cancel_requested=False, attempts=0)
         if reuse and self.settings.reuse_results:
             src = self.store.find_reusable(digest)
-            if src is not None and src.result_file and self.files.exists(src.result_file):
+            if src is not None and src.result_file and self.files.exists(src.result_file) and (
+                    (src.run_meta or {}).get("section") == section):
                 file_name = self.files.copy(src.result_file, job_id)
                 job = Job(**common, status="succeeded", progress=1.0,
                           message=f"results reused from job {src.id}", started_at=t,
@@ -131,7 +133,8 @@ class Submitter:
                           wall_time_s=0.0)
                 return Submitted(job, True, None)
         pre = self.check(scenario) if self.settings.preflight else None
-        job = Job(**common, status="queued", progress=0.0, message="queued", run_meta={})
+        meta = {"section": section} if section else {}
+        job = Job(**common, status="queued", progress=0.0, message="queued", run_meta=meta)
         return Submitted(job, False, pre)
 
     def _add(self, items: Sequence[Submitted], study: Study | None = None) -> None:
@@ -167,7 +170,7 @@ class Submitter:
             for pj in plan.jobs:
                 subs.append(self._record(pj.scenario, name=pj.name, preset=None,
                                          reuse=plan.reuse, study_id=study_id, index=pj.index,
-                                         axes=pj.axes))
+                                         axes=pj.axes, section=pj.section))
         except Exception:
             for s in subs:  # copies of reused results made before the refusal
                 if s.reused:
@@ -178,6 +181,30 @@ class Submitter:
                       axes=[ax.describe() for ax in plan.axes], spec=plan.request)
         self._add(subs, study)
         return study, subs
+
+    def submit_report(self, study: Study) -> tuple[Job, bool]:
+        """Queue the build of a paper report study's report (a job of kind ``paper_report``,
+        :mod:`flexride.study.report`) unless one is already queued or running for it.
+
+        Returns
+        -------
+        (Job, bool)
+            The new job and True, or the active one and False.
+        """
+        from flexride.study.report import REPORT_KIND, report_key
+
+        self.check_storage()
+        t = now()
+        job = Job(id=new_id(), kind=REPORT_KIND, name=f"Report of study {study.name}"[:120],
+                  status="queued", progress=0.0, message="queued", created_at=t,
+                  updated_at=t, runner=self.runner.kind,
+                  max_attempts=self.settings.max_attempts, attempts=0,
+                  cancel_requested=False, scenario_hash=report_key(study.id),
+                  scenario={"study_id": study.id}, axes={}, run_meta={})
+        job, created = self.store.add_unless_active(job)
+        if created:
+            self.runner.submit([job.id])
+        return job, created
 
     def submit_fe_export(self, spec: ExportSpec) -> tuple[Job, bool]:
         """Queue the build of an FE export (a job of kind ``fe_export``) unless one for the

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Path, Query, Response
+from fastapi.responses import FileResponse
 
 from flexride.api.deps import AUTH, ServicesDep
 from flexride.api.errors import NotFound
@@ -45,6 +46,41 @@ def get_study(study_id: StudyId, svc: ServicesDep) -> StudyDetail:
     acceleration vs speed with linear fit and R², flexible vs rigid differences.
     """
     return svc_studies.study_detail(svc, study_id)
+
+
+#: The report is self-contained (Plotly and its data inline): it may run its own inline
+#: scripts and nothing else, and may not load or send anything.
+REPORT_CSP = ("default-src 'none'; script-src 'unsafe-inline' 'unsafe-eval'; "
+              "style-src 'unsafe-inline'; img-src data: blob:; font-src data:; "
+              "connect-src 'none'; base-uri 'none'; form-action 'none'")
+
+_REPORT_DOC: dict[int | str, dict[str, Any]] = {
+    404: {"description": "No such study, or not a paper report study"},
+    409: {"description": "The report is not ready yet (runs or build unfinished, or failed)"},
+}
+
+
+@router.get("/studies/{study_id}/report", response_class=FileResponse,
+            summary="Report of a paper report study", responses={
+                200: {"content": {"text/html": {}}, "description": "index.html"},
+                **_REPORT_DOC})
+def study_report(study_id: StudyId, svc: ServicesDep) -> FileResponse:
+    """The report (``index.html``, self-contained) of a study made with the
+    ``paper-report`` preset, once every run has finished and the report is built.
+    """
+    path = svc_studies.report_file(svc, study_id, "index.html")
+    return FileResponse(path, media_type="text/html; charset=utf-8",
+                        headers={"X-Content-Type-Options": "nosniff",
+                                 "Content-Security-Policy": REPORT_CSP})
+
+
+@router.get("/studies/{study_id}/report/summary", summary="Claims of a paper report study",
+            responses=_REPORT_DOC)
+def study_report_summary(study_id: StudyId, svc: ServicesDep) -> Any:
+    """``summary.json`` of the report: one claim per table entry and stated finding,
+    ``{"id", "source", "paper", "flexride", "verdict", "note", ...}`` (docs/paper.md).
+    """
+    return svc_studies.report_summary(svc, study_id)
 
 
 @router.post("/studies/{study_id}/cancel", response_model=StudyDetail, dependencies=AUTH,

@@ -79,6 +79,7 @@ from flexride.api.schemas.studies import (
     StudyList,
     StudyOut,
     StudyPresetOut,
+    StudyReportOut,
     StudyTables,
 )
 
@@ -138,6 +139,7 @@ __all__ = [
     "StudyList",
     "StudyOut",
     "StudyPresetOut",
+    "StudyReportOut",
     "StudyTables",
     "SweepOut",
     "SweepSpec",

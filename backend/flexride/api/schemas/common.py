@@ -14,7 +14,7 @@ from pydantic import (
 )
 
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
-JobKind = Literal["simulation", "fe_export"]
+JobKind = Literal["simulation", "fe_export", "paper_report"]
 BodyModelName = Literal["rigid", "flexible"]
 
 _NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9 _.+-]{0,79}$"

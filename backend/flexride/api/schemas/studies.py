@@ -23,6 +23,7 @@ from flexride.api.schemas.common import (
     _Strict,
 )
 from flexride.settings import API_PREFIX
+from flexride.study.seeds import MAX_SERVICE_SEEDS
 
 # -- studies ---------------------------------------------------------------------------------
 
@@ -60,6 +61,7 @@ class StudyCreate(_Strict):
          "base": {"scenario": {"preset": "paper-random-straight-80", "duration_s": 6.0}},
          "speeds_kmh": [60, 80]},
         {"preset": "paper-table3", "overrides": {"distance_m": 150.0}},
+        {"preset": "paper-report", "quick": True, "seeds": 1},
     ]})
 
     name: str | None = Field(None, pattern=_NAME_PATTERN)
@@ -77,6 +79,22 @@ class StudyCreate(_Strict):
         description="Car body and frames rigid and/or flexible",
     )
     parameters: list[ParameterAxis] | None = Field(None, max_length=10)
+    seeds: int | None = Field(
+        None, ge=1, le=MAX_SERVICE_SEEDS,
+        description=f"Irregularity realisations per condition (1–{MAX_SERVICE_SEEDS}): "
+        "realisation k sets every random irregularity's seed to its own + k − 1; the tables "
+        "give each index as the mean with its 95 % confidence interval (Student t). Jobs "
+        "without a random irregularity run once.",
+    )
+    section: Literal["paper", "curve", "run"] = Field(
+        "paper", description="Stretch each job's indices are evaluated on: paper (the "
+        "report's rules: on a curve the circular arc, on straight track from 30 m on, a "
+        "settlement the whole run), curve (the whole curve with its transitions, otherwise as "
+        "paper) or run (the whole run). A section shorter than 6 s of the run falls back to "
+        "the whole run; the tables state each index's section.")
+    quick: bool | None = Field(
+        None, description="paper-report preset only: the shortened study of `flexride paper "
+        "report --quick` (2 speeds, 1/4 of every evaluated stretch)")
     overrides: dict[str, Any] = Field(default_factory=dict, max_length=200)
     reuse: bool = True
 
@@ -122,7 +140,9 @@ class LinearFitOut(BaseModel):
 
 
 class SpeedSeries(BaseModel):
-    """A quantity against speed for one group (other axes fixed), point and direction."""
+    """A quantity against speed for one group (other axes but the realisations fixed), point
+    and direction. With a ``seed`` axis ``value`` is the mean over the realisations.
+    """
 
     group: dict[str, Any]
     point: str
@@ -130,9 +150,19 @@ class SpeedSeries(BaseModel):
     quantity: str
     unit: str
     speed_kmh: list[float]
-    value: list[float | None]
-    job_ids: list[str]
-    fit: LinearFitOut | None = None
+    value: list[float | None] = Field(description="Per speed: mean over the realisations")
+    ci95: list[float | None] = Field(
+        default_factory=list, description="Per speed: half width of the 95 % confidence "
+        "interval of the mean (Student t over the realisations; null for one)")
+    n: list[int] = Field(default_factory=list, description="Per speed: realisations averaged")
+    sections: list[str] = Field(default_factory=list, description="Per speed: the section "
+                                "the values are evaluated on (m along the line)")
+    job_ids: list[str] = Field(description="Per speed: the job of the first realisation")
+    jobs: list[list[str]] = Field(default_factory=list,
+                                  description="Per speed: every job averaged")
+    job_values: dict[str, float | None] = Field(default_factory=dict,
+                                                description="Each job's own value")
+    fit: LinearFitOut | None = Field(None, description="Least-squares line through the means")
 
 
 class FlexRigidRow(BaseModel):
@@ -147,8 +177,14 @@ class FlexRigidRow(BaseModel):
     flexible: float | None
     difference: float | None = Field(description="flexible − rigid")
     relative: float | None = Field(description="(flexible − rigid) / rigid")
-    rigid_job: str
-    flexible_job: str
+    rigid_ci95: float | None = Field(None, description="95 % CI half width of rigid")
+    flexible_ci95: float | None = Field(None, description="95 % CI half width of flexible")
+    difference_ci95: float | None = Field(None, description="95 % CI half width of difference")
+    relative_ci95: float | None = Field(None, description="95 % CI half width of relative")
+    n: int = Field(1, description="Realisations (pairs on the same track) averaged")
+    section: str | None = Field(None, description="The section the values are evaluated on")
+    rigid_job: str = Field(description="Rigid job of the first realisation")
+    flexible_job: str = Field(description="Flexible job of the first realisation")
 
 
 class StudyTables(BaseModel):
@@ -197,11 +233,29 @@ class StudyOut(BaseModel):
                                        "counts": counts})
 
 
+class StudyReportOut(BaseModel):
+    """The report of a paper report study (preset ``paper-report``)."""
+
+    state: Literal["waiting", "queued", "running", "ready", "failed"] = Field(
+        description="waiting: runs not finished; queued/running: the report is being built; "
+        "ready: GET links.html and links.summary; failed: see error")
+    message: str = ""
+    progress: float = Field(0.0, description="Of the report's build (0–1)")
+    job_id: str | None = Field(None, description="The job (kind paper_report) that builds it")
+    error: str | None = None
+    counts: dict[str, int] = Field(default_factory=dict,
+                                   description="Claims per verdict (when ready)")
+    links: dict[str, str] = Field(default_factory=dict)
+
+
 class StudyDetail(StudyOut):
-    """A study with its jobs and its aggregated tables."""
+    """A study with its jobs and its aggregated tables (and, for a paper report study, the
+    state of its report).
+    """
 
     jobs: list[StudyJobOut] = Field(default_factory=list)
     tables: StudyTables = Field(default_factory=StudyTables)
+    report: StudyReportOut | None = None
 
 
 class StudyList(BaseModel):

@@ -1,16 +1,37 @@
-"""Study operations: expand and submit, read with aggregated tables, list, cancel, delete."""
+"""Study operations: expand and submit, read with aggregated tables, list, cancel, delete;
+the report of a paper report study (its state, its build once every run has finished, its
+files).
+"""
 
 from __future__ import annotations
 
-from typing import Any
+import json
+import shutil
+from pathlib import Path
+from typing import Any, Literal
 
 from flexride.api.deps import Services
-from flexride.api.errors import NotFound
-from flexride.api.schemas import StudyCreate, StudyDetail, StudyJobOut, StudyOut, StudyTables
-from flexride.store import FINAL_STATUSES, Study
+from flexride.api.errors import Conflict, NotFound
+from flexride.api.schemas import (
+    StudyCreate,
+    StudyDetail,
+    StudyJobOut,
+    StudyOut,
+    StudyReportOut,
+    StudyTables,
+)
+from flexride.settings import API_PREFIX
+from flexride.store import FINAL_STATUSES, Job, Study
 from flexride.study.aggregate import study_tables
 from flexride.study.expand import expand_study
 from flexride.study.presets import STUDY_PRESETS
+from flexride.study.report import (
+    REPORT_FILES,
+    REPORT_KIND,
+    REPORT_PRESET,
+    report_dir,
+    report_key,
+)
 
 
 def study_status(counts: dict[str, int]) -> str:
@@ -67,7 +88,86 @@ def study_detail(svc: Services, study_id: str) -> StudyDetail:
     return StudyDetail.model_validate(study).with_jobs_state(
         study_status(counts), _progress(jobs), counts).model_copy(update={
             "jobs": [StudyJobOut.model_validate(j) for j in jobs],
-            "tables": StudyTables.model_validate(tables)})
+            "tables": StudyTables.model_validate(tables),
+            "report": report_state(svc, study, jobs)})
+
+
+def _report_links(study_id: str) -> dict[str, str]:
+    base = f"{API_PREFIX}/studies/{study_id}/report"
+    return {"html": base, "summary": f"{base}/summary"}
+
+
+def _report_ready(svc: Services, study_id: str) -> Path | None:
+    d = report_dir(svc.files.root, study_id)
+    return d if all((d / f).is_file() for f in REPORT_FILES) else None
+
+
+def report_state(svc: Services, study: Study, jobs: list[Any]) -> StudyReportOut | None:
+    """The report of a paper report study (None for other studies). Once every run has
+    finished (none cancelled, one at least succeeded) and no report exists or is being built,
+    its build is queued: one ``paper_report`` job per study at a time; a failed build is not
+    retried.
+    """
+    if study.preset != REPORT_PRESET:
+        return None
+    ready = _report_ready(svc, study.id)
+    last = svc.store.latest_job(REPORT_KIND, report_key(study.id))
+    if ready is not None:
+        counts = (last.run_meta or {}).get("counts", {}) if last is not None else {}
+        return StudyReportOut(state="ready", message="the report is ready", progress=1.0,
+                              job_id=last.id if last else None, counts=counts,
+                              links=_report_links(study.id))
+    if last is not None and last.status in ("queued", "running", "failed", "cancelled"):
+        return _report_of_job(last)
+    done = sum(1 for j in jobs if j.status in FINAL_STATUSES)
+    if done < len(jobs):
+        return StudyReportOut(state="waiting", message=f"{done} of {len(jobs)} runs finished; "
+                              "the report is built when all have")
+    if any(j.status == "cancelled" for j in jobs):
+        return StudyReportOut(state="failed", error="runs of the study were cancelled",
+                              message="no report: the study was cancelled")
+    if not any(j.status == "succeeded" for j in jobs):
+        return StudyReportOut(state="failed", error="no run of the study succeeded",
+                              message="no report: every run failed or was cancelled")
+    job, _ = svc.submitter.submit_report(study)
+    return _report_of_job(job)
+
+
+def _report_of_job(job: Job) -> StudyReportOut:
+    if job.status in ("queued", "running"):
+        state: Literal["queued", "running"] = "queued" if job.status == "queued" else "running"
+        return StudyReportOut(state=state, message=job.message or "building the report",
+                              progress=job.progress, job_id=job.id)
+    return StudyReportOut(state="failed", job_id=job.id, message=f"the report's build {job.status}",
+                          error=job.error or job.status)
+
+
+def report_file(svc: Services, study_id: str, name: str) -> Path:
+    """A file of a study's report (``index.html`` or ``summary.json``).
+
+    Raises
+    ------
+    NotFound
+        No such study, or not a paper report study.
+    Conflict
+        The report is not ready (the message says what it waits for).
+    """
+    study = get_study(svc, study_id)
+    if study.preset != REPORT_PRESET:
+        raise NotFound(f"study {study_id} is not a paper report study (preset "
+                       f"{REPORT_PRESET!r}): it has no report")
+    ready = _report_ready(svc, study.id)
+    if ready is None:
+        st = report_state(svc, study, svc.store.study_jobs(study.id))
+        why = st.error or st.message if st is not None else ""
+        raise Conflict(f"the report of study {study_id} is not ready ({st.state if st else ''}"
+                       f": {why})")
+    return ready / name
+
+
+def report_summary(svc: Services, study_id: str) -> Any:
+    """The claims of a study's report (``summary.json``)."""
+    return json.loads(report_file(svc, study_id, "summary.json").read_text(encoding="utf-8"))
 
 
 def list_studies(svc: Services, limit: int, offset: int) -> dict[str, Any]:
@@ -84,9 +184,13 @@ def list_studies(svc: Services, limit: int, offset: int) -> dict[str, Any]:
 
 
 def cancel_study(svc: Services, study_id: str) -> StudyDetail:
-    """Cancel every queued or running job of a study."""
-    get_study(svc, study_id)
-    for job in svc.store.study_jobs(study_id):
+    """Cancel every queued or running job of a study (and the build of its report)."""
+    study = get_study(svc, study_id)
+    jobs = svc.store.study_jobs(study_id)
+    if study.preset == REPORT_PRESET:
+        report = svc.store.latest_job(REPORT_KIND, report_key(study_id))
+        jobs += [report] if report is not None else []
+    for job in jobs:
         if job.status in ("queued", "running"):
             svc.store.request_cancel(job.id)
             svc.runner.cancel(job.id)
@@ -102,19 +206,38 @@ def delete_study(svc: Services, study_id: str) -> None:
     study, jobs = delete_records_and_files(svc, files, lambda: svc.store.delete_study(study_id))
     if study is None:
         raise NotFound(f"no study {study_id!r}")
+    if study.preset == REPORT_PRESET:
+        _delete_report(svc, study.id)
     for job in jobs:
         if job.status in ("queued", "running"):
             svc.runner.cancel(job.id)
     forget_cached(svc, [j.id for j in jobs])
 
 
+def _delete_report(svc: Services, study_id: str) -> None:
+    """Remove a report study's report files and its report jobs (cancelled if active)."""
+    for _ in range(1000):  # one job per build; a failed build is rebuilt only on request
+        job = svc.store.latest_job(REPORT_KIND, report_key(study_id))
+        if job is None:
+            break
+        if job.status in ("queued", "running"):
+            svc.store.request_cancel(job.id)
+            svc.runner.cancel(job.id)
+        svc.store.delete_job(job.id)
+    shutil.rmtree(report_dir(svc.files.root, study_id), ignore_errors=True)
+
+
 def study_presets() -> list[dict[str, Any]]:
     """The built-in studies with the requests they stand for and their sizes."""
+    from flexride.study.report import expand_report_size
+
     out = []
     for name, req in STUDY_PRESETS.items():
         n = 1
         for key in ("conditions", "speeds_kmh", "body_models"):
             n *= len(req.get(key) or [None])
+        if name == REPORT_PRESET:
+            n = expand_report_size(req)
         out.append({"name": name, "description": req.get("description", ""),
                     "request": req, "n_jobs": n})
     return out

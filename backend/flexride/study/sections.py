@@ -1,0 +1,54 @@
+"""The section of a run a study job's indices are evaluated on, by the rules of the paper
+report (:func:`flexride.paper.plan.section_of`): on a curve the circular arc (or the whole
+curve), on straight track with an excitation from 30 m on, a settlement from the start to the
+end; the whole run when the section would hold less than 6 s of it (``paper.plan.MIN_EVAL_S``).
+
+The section goes with the job (``run_meta["section"]``); the worker analyses the section as
+well as the whole run (``summary["section"]``) and the study's tables use the section's
+indices, stating it with every index.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from flexride.scenario.scenario import Scenario
+
+__all__ = ["SECTION_RULES", "SectionRule", "job_section"]
+
+SectionRule = Literal["paper", "curve", "run"]
+SECTION_RULES: tuple[str, ...] = ("paper", "curve", "run")
+"""``paper``: the report's sections (the arc on a curve); ``curve``: the same but the whole
+curve with its transitions; ``run``: the whole run."""
+
+
+
+def job_section(scenario: Scenario, rule: str = "paper") -> dict[str, Any] | None:
+    """The section of one job, or None for the whole run.
+
+    Returns
+    -------
+    dict or None
+        ``{"rule", "start_m", "end_m", "label"}`` (m along the line, vehicle centre), or
+        None when ``rule`` is ``run``, the section is the whole run or it would be shorter
+        than the report's shortest evaluated stretch (``paper.plan.MIN_EVAL_S``, 6 s: one 5 s
+        Sperling segment and a margin) within the run.
+    """
+    # imported here: flexride.paper's report reads the study tables' summary_value
+    from flexride.paper.plan import MIN_EVAL_S, section_of
+
+    if rule == "run":
+        return None
+    data = scenario.model_dump(mode="json")
+    length = scenario.duration * scenario.speed_mps
+    g = scenario.vehicle.geometry
+    half = g.bogie_centre_spacing / 2.0 + g.wheelbase / 2.0
+    sec = section_of(data["line"], data["excitation"], length, half,
+                     curve="curve" if rule == "curve" else "arc")
+    start, end = max(sec.start_m, 0.0), min(sec.end_m, length)
+    if sec.rule == "run" or (start <= 0.0 and end >= length):
+        return None
+    if end - start < MIN_EVAL_S * scenario.speed_mps:
+        return None
+    return {"rule": sec.rule, "start_m": start, "end_m": end,
+            "label": type(sec)(start, end, start, sec.rule).label()}
