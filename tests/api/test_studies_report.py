@@ -163,3 +163,25 @@ def test_finished_runs_queue_one_report_build(client):
     assert [j["kind"] for j in jobs["items"]].count("paper_report") == 1
     assert client.delete(f"{API}/studies/{st['id']}").status_code == 204
     assert client.get(f"{API}/jobs", params={"kind": "all"}).json()["total"] == 0
+
+
+def test_the_reaper_queues_a_finished_studys_report_without_a_reader(client):
+    """Nobody reads the study: the service's periodic pass queues its report build once."""
+    from sqlalchemy import update
+
+    from flexride.store import Job
+    from flexride.study.report import REPORT_KIND, report_key
+
+    st = client.post(f"{API}/studies", json={"preset": "paper-report", "quick": True}).json()
+    svc = services(client)
+    svc.reaper.run_once()  # runs unfinished: nothing to build
+    assert svc.store.latest_job(REPORT_KIND, report_key(st["id"])) is None
+    with svc.store.writing() as s, s.begin():
+        s.execute(update(Job).where(Job.study_id == st["id"]).values(
+            status="succeeded", progress=1.0, summary={"points": {}}))
+    svc.reaper.run_once()
+    built = svc.store.latest_job(REPORT_KIND, report_key(st["id"]))
+    assert built is not None and built.status in ("queued", "running", "failed")
+    svc.reaper.run_once()  # a second pass queues nothing more
+    assert svc.store.latest_job(REPORT_KIND, report_key(st["id"])).id == built.id
+    assert client.delete(f"{API}/studies/{st['id']}").status_code == 204

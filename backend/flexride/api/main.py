@@ -16,6 +16,7 @@ import logging
 import re
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from functools import partial
 from pathlib import Path
 
 import anyio.to_thread
@@ -34,6 +35,7 @@ from flexride.api.routes import api_router
 from flexride.api.schemas import ErrorResponse
 from flexride.api.services.fe import FEExports
 from flexride.api.services.jobs import sweep_deleted
+from flexride.api.services.studies import queue_due_reports
 from flexride.jobs.factory import make_runner
 from flexride.jobs.reaper import Reaper
 from flexride.settings import API_PREFIX, Settings, get_settings, token_problem
@@ -77,11 +79,13 @@ def build_services(settings: Settings) -> Services:
                         cache_bytes=int(settings.result_cache_mb * 1024 * 1024))
     runner = make_runner(settings, store)
     submitter = Submitter(store, files, runner, settings)
-    return Services(settings=settings, store=store, files=files, runner=runner,
-                    submitter=submitter, reaper=Reaper(store, runner, settings),
-                    fe=FEExports(store, submitter, settings.cache_dir,
-                                 wait_s=settings.fe_wait_s),
-                    uploads=submitter.uploads)
+    svc = Services(settings=settings, store=store, files=files, runner=runner,
+                   submitter=submitter, reaper=Reaper(store, runner, settings),
+                   fe=FEExports(store, submitter, settings.cache_dir,
+                                wait_s=settings.fe_wait_s),
+                   uploads=submitter.uploads)
+    svc.reaper.hooks.append(partial(queue_due_reports, svc))
+    return svc
 
 
 def plotly_js_path() -> Path | None:

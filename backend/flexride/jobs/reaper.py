@@ -3,13 +3,16 @@
 A running job whose heartbeat is older than ``heartbeat_timeout_s`` lost its worker (killed,
 machine gone, network cut): it is queued again and re-dispatched while attempts remain, and
 marked failed with the reason otherwise. The runner is also asked to re-dispatch jobs a
-transport may have lost (a broker restarted without persistence).
+transport may have lost (a broker restarted without persistence). Then the ``hooks`` run:
+periodic work of the service registered by the API (e.g. queueing the report of a finished
+paper report study).
 """
 
 from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Callable
 from typing import Any
 
 from flexride.jobs.base import JobRunner
@@ -39,6 +42,8 @@ class Reaper:
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self.last: dict[str, Any] = {}
+        #: Called after every pass, each on its own (a failing hook is logged).
+        self.hooks: list[Callable[[], object]] = []
 
     def run_once(self) -> dict[str, Any]:
         """One pass: requeue or fail stale jobs, re-dispatch; return what was done."""
@@ -59,6 +64,11 @@ class Reaper:
         self.store.forget_workers(now() - _FORGET_WORKERS_AFTER_S)
         self.last = {"requeued": requeued, "failed": failed, "redispatched": redispatched,
                      "at": now()}
+        for hook in self.hooks:
+            try:
+                hook()
+            except Exception:
+                log.exception("reaper hook %s failed", getattr(hook, "__name__", hook))
         return self.last
 
     def start(self) -> Reaper:

@@ -133,6 +133,31 @@ def report_state(svc: Services, study: Study, jobs: list[Any]) -> StudyReportOut
     return _report_of_job(job)
 
 
+#: Studies (the most recent) the reaper's pass looks at for a report to queue; an older
+#: report study has its report queued when it is read.
+RECENT_STUDIES = 50
+
+
+def queue_due_reports(svc: Services) -> list[str]:
+    """Queue the report build of every recent paper report study whose runs have all finished
+    (a pass of the reaper, so that a report is built without anyone reading the study).
+
+    Returns
+    -------
+    list of str
+        Ids of the studies whose report is queued, being built or ready after the pass.
+    """
+    studies, _ = svc.store.list_studies(limit=RECENT_STUDIES)
+    due = []
+    for study in studies:
+        if study.preset != REPORT_PRESET or _report_ready(svc, study.id) is not None:
+            continue
+        rep = report_state(svc, study, svc.store.study_jobs(study.id))
+        if rep is not None and rep.state in ("queued", "running", "ready"):
+            due.append(study.id)
+    return due
+
+
 def _report_of_job(job: Job) -> StudyReportOut:
     if job.status in ("queued", "running"):
         state: Literal["queued", "running"] = "queued" if job.status == "queued" else "running"
