@@ -1,12 +1,14 @@
 """Sparse generalised eigen solutions (free–free or constrained) with shift-invert Lanczos.
 
-One sparse LU factorisation of ``K - σ M`` is made and reused by every Lanczos iteration (and
-may be passed in, e.g. by the Craig–Bampton reduction that also solves with it).
+One sparse LU factorisation of ``K - σ M`` (SuperLU in symmetric mode, :func:`factorise`) is
+made and reused by every Lanczos iteration (and may be passed in, e.g. by the Craig–Bampton
+reduction that also solves with it).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.linalg as la
@@ -37,6 +39,45 @@ class Modes:
         return 2.0 * np.pi * self.frequencies
 
 
+#: SuperLU in symmetric mode for ``K - σM`` (symmetric): minimum degree on the structure of
+#: ``Aᵀ + A`` and diagonal pivots. For the 0.2 m car body (29,952 DOFs) half the fill of the
+#: general ordering (10.7 M against 21.2 M nonzeros), the factorisation about 2× and every
+#: solve about 1.5× faster, at shifts below and inside the spectrum alike.
+SYMMETRIC_LU: dict[str, Any] = {"permc_spec": "MMD_AT_PLUS_A", "diag_pivot_thresh": 0.0,
+                                "options": {"SymmetricMode": True}}
+#: The general ordering with partial pivoting, taken when the symmetric mode meets a zero or
+#: tiny diagonal pivot (singular, or its residual check fails).
+GENERAL_LU: dict[str, Any] = {"permc_spec": "MMD_ATA"}
+#: Relative residual ‖A x − b‖/‖b‖ a symmetric-mode factorisation must reach on a fixed
+#: random right-hand side to be kept.
+LU_RESIDUAL_TOL = 1.0e-8
+
+
+def _relative_residual(A: sp.csc_matrix, lu: Any) -> float:
+    b = np.random.default_rng(0).standard_normal(A.shape[0])
+    x = lu.solve(b)
+    r = float(np.linalg.norm(A @ x - b) / np.linalg.norm(b))
+    return r if np.isfinite(r) else np.inf
+
+
+def factorise(A: sp.csc_matrix) -> Any:
+    """SuperLU factorisation of the symmetric matrix ``A``: in symmetric mode when that is
+    accurate (:data:`LU_RESIDUAL_TOL`), else with partial pivoting (:data:`GENERAL_LU`).
+
+    Raises
+    ------
+    RuntimeError
+        If ``A`` is singular (SuperLU's error of the general factorisation).
+    """
+    try:
+        lu = spla.splu(A, **SYMMETRIC_LU)
+        if _relative_residual(A, lu) <= LU_RESIDUAL_TOL:
+            return lu
+    except RuntimeError:  # a zero diagonal pivot: pivoting may still find a factorisation
+        pass
+    return spla.splu(A, **GENERAL_LU)
+
+
 class ShiftInvert:
     """Factorised ``K - σ M`` (SuperLU) usable as an ARPACK OPinv operator.
 
@@ -53,7 +94,7 @@ class ShiftInvert:
         self.sigma = float(sigma)
         self.n = A.shape[0]
         try:
-            self.lu = spla.splu(A, permc_spec="MMD_ATA")
+            self.lu = factorise(A)
         except RuntimeError as exc:  # singular
             raise FEModelError(
                 f"stiffness matrix is singular at shift {sigma:g} rad²/s² ({exc}); the model "

@@ -12,10 +12,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from flexride.errors import FEModelError
-from flexride.fem.eigen import ShiftInvert, solve_modes
+from flexride.fem.eigen import ShiftInvert, factorise, solve_modes
 
 
 @dataclass
@@ -71,7 +70,7 @@ def _split(n: int, masters: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _factor(A: sp.spmatrix, what: str):
     try:
-        return spla.splu(sp.csc_matrix(A), permc_spec="COLAMD")
+        return factorise(sp.csc_matrix(A))
     except RuntimeError as exc:
         raise FEModelError(
             f"{what} is singular: the master/interface DOFs do not hold the model "
