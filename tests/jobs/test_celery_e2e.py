@@ -15,6 +15,8 @@ import os
 import signal
 import uuid
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import pytest
 import redis
@@ -113,17 +115,25 @@ class Cluster:
                         f"job {job_id} to run")
 
 
-@pytest.fixture(scope="module")
-def cluster(tmp_path_factory):
-    redis.Redis.from_url(redis_url(9), socket_connect_timeout=3).ping()  # fail loudly if down
+@contextmanager
+def running_cluster(tmp_path_factory, name: str) -> Iterator[Cluster]:
+    """A started cluster (two Celery worker processes and the API) on a fresh PostgreSQL
+    schema; fails loudly when Redis or PostgreSQL is down."""
+    redis.Redis.from_url(redis_url(9), socket_connect_timeout=3).ping()
     with pg_schema() as db_url:
-        c = Cluster(tmp_path_factory.mktemp("celery"), db_url)
+        c = Cluster(tmp_path_factory.mktemp(name), db_url)
         try:
             c.start_worker(concurrency=2)
             c.start_api()
             yield c
         finally:
             c.stop()
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory):
+    with running_cluster(tmp_path_factory, "celery") as c:
+        yield c
 
 
 def test_celery_job_end_to_end(cluster):

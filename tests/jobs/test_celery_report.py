@@ -8,25 +8,17 @@ or PostgreSQL is down.
 from __future__ import annotations
 
 import pytest
-import redis
 
-from jobs.test_celery_e2e import API, Cluster
-from service.svc_testkit import pg_schema, redis_url, wait_for
+from jobs.test_celery_e2e import API, running_cluster
+from service.svc_testkit import wait_for
 
 pytestmark = pytest.mark.filterwarnings("ignore:Using `httpx`")
 
 
 @pytest.fixture(scope="module")
 def cluster(tmp_path_factory):
-    redis.Redis.from_url(redis_url(9), socket_connect_timeout=3).ping()  # fail loudly if down
-    with pg_schema() as db_url:
-        c = Cluster(tmp_path_factory.mktemp("celery-report"), db_url)
-        try:
-            c.start_worker(concurrency=2)
-            c.start_api()
-            yield c
-        finally:
-            c.stop()
+    with running_cluster(tmp_path_factory, "celery-report") as c:
+        yield c
 
 
 def test_report_study_on_celery_workers(cluster, monkeypatch):
