@@ -217,7 +217,8 @@ def analyze(
     return Summary(run=_run_block(results, time, fs, t0),
                    settings=_settings(sperling_form, filter_method, correlation_max_lag_s, ref),
                    points=points, correlations=correlations, safety=safety,
-                   other_channels=other_channels, notes=notes)
+                   other_channels=other_channels,
+                   notes=[*results.meta.get("notes", []), *notes])  # the run's own first
 
 
 def _time_axis(results: Results) -> tuple[float, np.ndarray]:

@@ -146,6 +146,8 @@ def _print_analysis(comfort: Any, points: list[dict[str, Any]]) -> None:
     safety = safety_table(comfort)
     if safety is not None:
         console.print(fit_table(safety, console))
+    for note in comfort["notes"] if isinstance(comfort, dict) else comfort.notes:
+        console.print(f"note: {note}", markup=False)
 
 
 @app.command()

@@ -18,21 +18,23 @@ Study-fidelity rules (stated in the report):
   presets'; :mod:`flexride.study.seeds`, the rule of the service's studies too).
 * **Flexible cut-off follows the excitation.** Elastic modes are kept up to
   max(the scenario's cut-off, 1.5 × the highest excitation frequency V/λ_min of the condition
-  over the study's speeds, rounded up to 10 Hz): corrugation of 0.5 m at 80 km/h excites
-  44 Hz, beyond the default 40 Hz. Car body and bogie frames alike; the rule changes the
-  truncation of the modal model, not a physical parameter.
+  over the study's speeds, rounded up to 10 Hz; :mod:`flexride.scenario.fidelity`):
+  corrugation of 0.5 m at 80 km/h excites 44 Hz, beyond the default 40 Hz. Car body and
+  bogie frames alike; the rule changes the truncation of the modal model, not a physical
+  parameter.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
-import math
 import os
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from flexride.errors import FlexrideError
+from flexride.scenario.fidelity import shortest_wavelength as condition_wavelength
+from flexride.scenario.fidelity import sufficient_cutoff_hz
 from flexride.scenario.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH, PAPER_VEHICLE
 from flexride.scenario.presets import load_preset as _load_preset
 from flexride.scenario.scenario import Scenario
@@ -71,8 +73,6 @@ plus the ±7.4 m spread of the wheelsets, rounded up."""
 
 SETTLEMENT_START_M = 0.0
 SETTLEMENT_DECAY_M = 20.0
-CUTOFF_FACTOR = 1.5
-CUTOFF_STEP_HZ = 10.0
 RECORD_VERSION = 1
 """Version of the stored run record; part of every cache key."""
 
@@ -351,18 +351,14 @@ def run_window(condition: str, speed_kmh: float, scale: float,
 
 def shortest_wavelength(condition: str) -> float:
     """Shortest excitation wavelength of a condition (m)."""
-    lam = math.inf
-    for exc in PAPER_CONDITIONS[condition][2]:
-        lam = min(lam, float(exc.get("wavelength_min_m") or exc.get("wavelength_m") or math.inf))
-    return lam
+    return condition_wavelength(PAPER_CONDITIONS[condition][2])
 
 
 def flexible_cutoff(condition: str, speeds_kmh: tuple[float, ...], base_hz: float) -> float:
-    """Elastic-mode cut-off for a condition (Hz): max(``base_hz``, 1.5·V_max/λ_min rounded up
-    to 10 Hz).
+    """Elastic-mode cut-off for a condition (Hz): the scenario rule
+    (:func:`flexride.scenario.fidelity.sufficient_cutoff_hz`) at the highest speed.
     """
-    f_exc = max(speeds_kmh) / 3.6 / shortest_wavelength(condition)
-    return max(base_hz, math.ceil(CUTOFF_FACTOR * f_exc / CUTOFF_STEP_HZ) * CUTOFF_STEP_HZ)
+    return sufficient_cutoff_hz(max(speeds_kmh) / 3.6 / shortest_wavelength(condition), base_hz)
 
 
 def _base_cutoff(overrides: tuple[tuple[str, Any], ...]) -> float:

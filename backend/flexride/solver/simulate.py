@@ -14,6 +14,7 @@ import numpy as np
 
 from flexride.errors import SimulationCancelled, SimulationError
 from flexride.results import Results
+from flexride.scenario.fidelity import cutoff_notes
 from flexride.scenario.scenario import Scenario
 from flexride.solver import system as S
 from flexride.solver.assemble import Assembly, assemble
@@ -437,6 +438,7 @@ def integrate(
         "output_points": [p[0] for p in asm.vehicle.points if p[1] == 0],
         "friction": scenario.contact.friction,
         "flange_angle_rad": None if asm.profiles is None else asm.profiles.flange_angle(),
+        "notes": cutoff_notes(scenario),
     }
     report(1.0, "done")
     return _collect(asm, scenario, ws, meta)
