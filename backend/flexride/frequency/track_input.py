@@ -25,8 +25,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from flexride.frequency.errors import LinearisationError
-from flexride.scenario.excitation import IRREGULARITY_COMPONENTS, RandomIrregularity
+from flexride.frequency.measured_input import MeasuredInput, measured_input
+from flexride.scenario.excitation import (
+    IRREGULARITY_COMPONENTS,
+    MeasuredIrregularity,
+    RandomIrregularity,
+)
 from flexride.scenario.scenario import Scenario
+from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.track.spectra import german_psd
 
 __all__ = ["RandomInput", "TrackSpectra", "rail_map", "track_spectra"]
@@ -118,13 +124,13 @@ class TrackSpectra:
 
     Attributes
     ----------
-    inputs : tuple of RandomInput
-        The random irregularities.
+    inputs : tuple of RandomInput or MeasuredInput
+        The random irregularities: German spectra and measured records' spectra.
     half_gauge : float
         b, half distance between rail centres (m).
     """
 
-    inputs: tuple[RandomInput, ...]
+    inputs: tuple[RandomInput | MeasuredInput, ...]
     half_gauge: float = 0.75
     components: tuple[str, ...] = field(default=IRREGULARITY_COMPONENTS)
 
@@ -148,17 +154,26 @@ class TrackSpectra:
                               "V/λ_max…V/λ_min"}
 
 
-def track_spectra(scenario: Scenario, components: Sequence[str] | None = None) -> TrackSpectra:
-    """The random irregularities of a scenario as :class:`TrackSpectra`.
+def track_spectra(scenario: Scenario, components: Sequence[str] | None = None,
+                  sources: MeasuredSources = LIBRARY) -> TrackSpectra:
+    """The random irregularities of a scenario as :class:`TrackSpectra`: the German spectra
+    of its random excitations and the Welch spectra of its measured ones
+    (:mod:`flexride.frequency.measured_input`; ``sources`` says where uploads are read from).
 
     Raises
     ------
     LinearisationError
-        An excitation that is not a stationary random process (corrugation, settlement,
-        measured data), or no random excitation at all.
+        An excitation that is not a stationary random process (corrugation, settlement), a
+        measured record too short for a spectrum, or no random excitation at all.
+    ScenarioError
+        A measured record that cannot be read.
     """
-    inputs = []
+    half_gauge = scenario.track.rail_centre_half_distance
+    inputs: list[RandomInput | MeasuredInput] = []
     for i, exc in enumerate(scenario.excitation):
+        if isinstance(exc, MeasuredIrregularity):
+            inputs.append(measured_input(exc, half_gauge, sources, f"excitation[{i}]"))
+            continue
         if not isinstance(exc, RandomIrregularity):
             raise LinearisationError(
                 f"excitation[{i}] is a {exc.kind} excitation: a transient or deterministic "
@@ -170,4 +185,4 @@ def track_spectra(scenario: Scenario, components: Sequence[str] | None = None) -
     if not inputs:
         raise LinearisationError("the scenario has no random irregularity to estimate the "
                                  "response to", "excitation")
-    return TrackSpectra(tuple(inputs), scenario.track.rail_centre_half_distance)
+    return TrackSpectra(tuple(inputs), half_gauge)
