@@ -107,6 +107,7 @@ def test_report_study_end_to_end_on_the_embedded_runner(tmp_path, monkeypatch):
         page = c.get(rep["links"]["html"])
         assert page.status_code == 200 and page.headers["content-type"].startswith("text/html")
         assert "Dynamic evaluation on ride comfort" in page.text and "<script" in page.text
+        assert "wall time of the runs (the service's jobs)" in page.text
         # its own inline scripts only: nothing loaded from or sent to anywhere
         csp = page.headers["content-security-policy"]
         assert "default-src 'none'" in csp and "connect-src 'none'" in csp

@@ -48,3 +48,13 @@ def test_a_rerun_reuses_the_cached_runs(tiny_report):
     again = run_report(directory, tiny_options(jobs=1))
     assert again.outcome.reused == 4 and again.outcome.computed == 0
     assert [c["verdict"] for c in again.claims] == [c["verdict"] for c in first.claims]
+
+
+def test_the_report_states_the_sperling_settings_it_used(tiny_report):
+    """The settings line comes from the pinned defaults (a changed default changes it)."""
+    from flexride.analysis.sperling import SPERLING_DEFAULTS, spectral_form_text
+
+    page = (tiny_report[0] / "index.html").read_text(encoding="utf-8")
+    assert spectral_form_text() in page
+    assert f"{SPERLING_DEFAULTS['segment_s']:g} s Hann segments with 50% overlap" in page
+    assert "wall time" in page and "the service's jobs" not in page  # runs ran in the command

@@ -80,6 +80,7 @@ __all__ = [
     "line_power",
     "peak_lines",
     "record_sines",
+    "spectral_form_text",
     "sperling",
     "sperling_filter",
     "sperling_grade",
@@ -104,6 +105,17 @@ SPERLING_DEFAULTS: dict[str, Any] = {
 
 #: Lines a spectral peak takes on each side of its strongest line (Hann window: ±1).
 PEAK_HALF_WIDTH = 1
+
+
+def spectral_form_text(defaults: dict[str, Any] = SPERLING_DEFAULTS) -> str:
+    """The spectral form's settings in words, for reports (from :data:`SPERLING_DEFAULTS`)."""
+    lo, hi = defaults["band_hz"]
+    lines = (f"lines merged into spectral peaks (±{PEAK_HALF_WIDTH} line)"
+             if defaults["lines"] == "peaks" else "raw spectral lines")
+    return (f"spectral form (GB 5599), {defaults['segment_s']:g} s "
+            f"{str(defaults['window']).capitalize()} "
+            f"segments with {defaults['overlap']:.0%} overlap, {defaults['averaging']} "
+            f"averaging, {lines}, {lo:g}–{hi:g} Hz")
 
 LineMode = Literal["peaks", "bins"]
 

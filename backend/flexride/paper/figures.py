@@ -265,7 +265,7 @@ def _fig26(data: StudyData) -> list[dict[str, Any]]:
 
 
 _FIGURES: list[tuple[str, str, str, Callable[[StudyData], list[dict[str, Any]]]]] = [
-    ("table1", "Table 1: natural frequencies of the car body", "Table 1", _table1),
+    ("table1", "Natural frequencies of the car body", "Table 1", _table1),
     ("fig6", "Car body accelerations at PC, rigid and flexible model", "Fig. 6",
      lambda d: _time_panels(d, RS, ("PC",), (RIGID, FLEX))),
     ("fig7", "Spectra at PC, rigid and flexible model", "Fig. 7",

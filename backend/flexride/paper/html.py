@@ -127,6 +127,15 @@ def _figure_html(fig: dict[str, Any]) -> str:
             f"{_e(fig['title'])}</h3>{grid}{note}</div>")
 
 
+def _wall_text(meta: dict[str, Any]) -> str:
+    """The report's wall time: the command's, or the service's runs and then the report's."""
+    runs = meta.get("runs_wall_time_s")
+    if runs is None:
+        return f"wall time {meta['wall_time_s']:.0f} s"
+    return (f"wall time of the runs (the service's jobs) {runs:.0f} s, of the report "
+            f"{meta['wall_time_s']:.0f} s")
+
+
 def _header(meta: dict[str, Any]) -> str:
     opts = meta["options"]
     banner = ""
@@ -150,8 +159,8 @@ def _header(meta: dict[str, Any]) -> str:
             f"<p><i>{_e(meta['paper'])}</i></p>{banner}"
             f"<p>Generated {_e(meta['generated'])}; {runs['total']} runs ({runs['computed']} "
             f"computed, {runs['reused']} from the cache, {runs['failed']} failed), "
-            f"{_e(opts['seeds'])} irregularity realisation(s) per random condition, wall time "
-            f"{meta['wall_time_s']:.0f} s. Claims: {counts}.</p>{fails_html}"
+            f"{_e(opts['seeds'])} irregularity realisation(s) per random condition, "
+            f"{_wall_text(meta)}. Claims: {counts}.</p>{fails_html}"
             f"<h2>Verdicts</h2><ul>{verdicts}</ul><h2>How the study was run</h2>"
             f"<ul>{settings}</ul>")
 

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from flexride import __version__
+from flexride.analysis.sperling import spectral_form_text
 from flexride.fileio import write_bytes_atomic
 from flexride.paper.claims import evaluate_all
 from flexride.paper.data import StudyData
@@ -96,9 +97,8 @@ def _settings(options: ReportOptions, plan: list[RunSpec], modal: dict[str, Any]
         "paper.",
         f"Table 1: the flexible car body's FE model, {modal['element_size_m']:g} m elements "
         f"({modal['n_full_dof']} DOFs), modes to {modal['cutoff_hz']:g} Hz.",
-        "Sperling index: spectral form (GB 5599), 5 s rectangular segments, power averaging, "
-        "0.5–40 Hz, of the dynamic part (docs/analysis.md); peaks are max |a| of the raw "
-        "record, rms of the raw record.",
+        f"Sperling index: {spectral_form_text()}, of the dynamic part (docs/analysis.md); "
+        "peaks are max |a| of the raw record, rms of the raw record.",
         "Rigid and flexible runs of a condition and speed run over the same irregularity "
         "sample (same seed)"
         + (f"; {options.seeds} realisations per random condition, values are means ± 95 % CI "
@@ -119,7 +119,8 @@ def _meta(options: ReportOptions, plan: list[RunSpec], modal: dict[str, Any],
           outcome: RunOutcome, counts: dict[str, int], wall: float) -> dict[str, Any]:
     return {"paper": PAPER_TITLE, "flexride_version": __version__,
             "generated": datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC"),
-            "wall_time_s": wall, "options": options.to_dict(),
+            "wall_time_s": wall, "runs_wall_time_s": outcome.runs_wall_time_s,
+            "options": options.to_dict(),
             "runs": {"total": len(plan), "computed": outcome.computed,
                      "reused": outcome.reused, "failed": len(outcome.failures)},
             "failures": outcome.failures, "counts": counts,

@@ -71,12 +71,16 @@ class RunOutcome:
         Runs taken from the cache.
     computed : int
         Runs simulated now.
+    runs_wall_time_s : float or None
+        Wall time of the runs when they ran elsewhere before the report (the service's jobs:
+        first start to last finish, s); None when they ran in :func:`run_study`.
     """
 
     records: list[dict[str, Any]] = field(default_factory=list)
     failures: list[dict[str, Any]] = field(default_factory=list)
     reused: int = 0
     computed: int = 0
+    runs_wall_time_s: float | None = None
 
 
 def prepare_bodies(specs: Sequence[RunSpec], progress: Progress | None = None) -> None:

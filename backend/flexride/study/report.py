@@ -167,6 +167,10 @@ def _outcome(specs: list[RunSpec], jobs: dict[int, Job], files: Any, rep: Any) -
             out.failures.append({"spec": spec.to_dict(), "label": spec.label,
                                  "error": f"{type(exc).__name__}: {exc}"})
         rep.progress(0.9 * (i + 1) / len(specs), f"{spec.label}: analysed")
+    starts = [j.started_at for j in jobs.values() if j.started_at is not None]
+    ends = [j.finished_at for j in jobs.values() if j.finished_at is not None]
+    if starts and ends:
+        out.runs_wall_time_s = max(ends) - min(starts)
     return out
 
 
