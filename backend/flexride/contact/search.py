@@ -263,7 +263,7 @@ def _candidates(g, eta, angw, flange_angle, out):
             out[slot, 3] = eta[i] + f * (eta[i + 1] - eta[i])
 
 
-@numba.njit(cache=True, fastmath=_FM)
+@numba.njit(cache=True, fastmath=_FM, nogil=True)  # other API threads run while it searches
 def _search(dys, roll, zwL, s0L, hwL, awL, zrL, e0L, heL, zwR, s0R, hwR, awR, zrR, e0R, heR,
             bw, r0, flange_angle, res_phi, res_lift, res_slot, res_edge):
     """Solve every Δy; res_slot[side, slot, i, 0:4] = (found, gap, k, eta)."""
