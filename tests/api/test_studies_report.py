@@ -18,7 +18,7 @@ from flexride.paper.plan import ReportOptions, build_plan
 from service.svc_testkit import make_settings, services, wait_for
 
 API = "/api/v1"
-TINY = ReportOptions(conditions=("random-straight", "settlement"), speeds=(50.0,),
+TINY = ReportOptions(conditions=("random-straight", "settlement"), speeds=(50.0,), seeds=1,
                      distance_scale=0.01, jobs=1,
                      overrides=(("bodies.carbody.element_size_m", 0.5),
                                 ("bodies.carbody.cutoff_hz", 30.0),

@@ -16,7 +16,7 @@ TINY_OVERRIDES = (("bodies.carbody.element_size_m", 0.5), ("bodies.carbody.cutof
 
 def tiny_options(**changes) -> ReportOptions:
     """Options of the tiny study (keyword arguments change fields)."""
-    base = dict(conditions=("random-straight", "settlement"), speeds=(50.0,),
+    base = dict(conditions=("random-straight", "settlement"), speeds=(50.0,), seeds=1,
                 distance_scale=0.01, jobs=2, overrides=TINY_OVERRIDES)
     base.update(changes)
     return ReportOptions(**base)

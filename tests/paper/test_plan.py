@@ -8,12 +8,23 @@ from flexride.paper.plan import ReportError, ReportOptions, build_plan, full_win
 
 
 def test_full_study_is_table3_times_two_models():
-    plan = build_plan(ReportOptions().checked())
+    plan = build_plan(ReportOptions(seeds=1).checked())
     assert len(plan) == 32
     assert {s.condition for s in plan} == {"random-straight", "random-curve", "corrugation",
                                            "settlement"}
     assert {s.speed_kmh for s in plan} == {50.0, 60.0, 70.0, 80.0}
     assert all(s.distance_m in (400.0, 410.0, 200.0, 120.0) for s in plan)
+
+
+def test_the_full_report_runs_five_realisations_of_the_random_conditions_the_quick_one():
+    """Issue 14: the full report gives every random condition's index as a mean with its CI
+    over at least five realisations; --quick is a first look with one."""
+    full = build_plan(ReportOptions().checked())
+    random = {"random-straight", "random-curve"}
+    assert {s.seed for s in full if s.condition in random} == {1, 2, 3, 4, 5}
+    assert len(full) == 16 + 16 * 5  # defects once, random conditions five times
+    quick = build_plan(ReportOptions(quick=True).checked())
+    assert {s.seed for s in quick if s.condition in random} == {1} and len(quick) == 16
 
 
 def test_rigid_and_flexible_share_the_track_and_seeds_multiply_random_conditions():

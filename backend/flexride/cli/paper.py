@@ -66,8 +66,9 @@ def report(
     output: Annotated[Path, typer.Option("--output", "-o", help="Report directory")],
     quick: Annotated[bool, typer.Option(
         "--quick", help="Shortened study: 50 and 80 km/h, 1/4 of each evaluated stretch")] = False,
-    seeds: Annotated[int, typer.Option(
-        help="Irregularity realisations per random condition (mean ± 95 % CI)")] = 1,
+    seeds: Annotated[int | None, typer.Option(
+        help="Irregularity realisations per random condition (mean ± 95 % CI); "
+        "default 5, 1 with --quick")] = None,
     jobs: Annotated[int | None, typer.Option(
         help="Worker processes (default: the number of cores)")] = None,
     distance_scale: Annotated[float | None, typer.Option(

@@ -101,8 +101,9 @@ def _settings(options: ReportOptions, plan: list[RunSpec], modal: dict[str, Any]
         "peaks are max |a| of the raw record, rms of the raw record.",
         "Rigid and flexible runs of a condition and speed run over the same irregularity "
         "sample (same seed)"
-        + (f"; {options.seeds} realisations per random condition, values are means ± 95 % CI "
-           "(Student t)." if options.seeds > 1 else "; one realisation (seed 1)."),
+        + (f"; {options.seed_count()} realisations per random condition, values are means "
+           "± 95 % CI (Student t)." if options.seed_count() > 1
+           else "; one realisation (seed 1)."),
     ]
     for cond in options.conditions or ():
         specs = [s for s in plan if s.condition == cond and s.body == "flexible"]

@@ -44,8 +44,9 @@ STUDY_PRESETS: dict[str, dict[str, Any]] = {
     "paper-report": {
         "name": "paper-report",
         "description": "The paper reproduced, as `flexride paper report` does it (docs/paper.md):"
-        " Table 3's 16 conditions rigid and flexible (32 runs; quick: 2 speeds, shorter "
-        "stretches, 16 runs; seeds N: N realisations of the random conditions), each evaluated"
+        " Table 3's 16 conditions rigid and flexible (96 runs: five realisations of the "
+        "random conditions, or seeds N; quick: 2 speeds, shorter stretches, one realisation, "
+        "16 runs), each evaluated"
         " over its stated section; when all have finished the service builds the report "
         "(index.html with every table, figure and claim beside the paper's, summary.json). "
         "Only quick and seeds may be given.",

@@ -73,7 +73,7 @@ def report_options(request: Mapping[str, Any]) -> ReportOptions:
     """
     try:
         return ReportOptions(quick=bool(request.get("quick")),
-                             seeds=int(request.get("seeds") or 1), jobs=1).checked()
+                             seeds=request.get("seeds"), jobs=1).checked()
     except ReportError as exc:
         raise ScenarioError.at(("seeds",), str(exc), "study") from None
 
@@ -117,7 +117,7 @@ def expand_report(request: dict[str, Any], max_jobs: int) -> StudyPlan:
     options = report_options(request)
     specs = build_plan(options)
     if len(specs) > max_jobs:
-        raise StudyTooLarge(f"study: the paper report with seeds = {options.seeds} makes "
+        raise StudyTooLarge(f"study: the paper report with seeds = {options.seed_count()} makes "
                             f"{len(specs)} jobs; at most {max_jobs} are allowed "
                             "(FLEXRIDE_MAX_STUDY_JOBS)")
     jobs = [PlannedJob(index=i, name=s.label, scenario=s.scenario(),
@@ -128,7 +128,7 @@ def expand_report(request: dict[str, Any], max_jobs: int) -> StudyPlan:
     quick = " (quick)" if options.quick else ""
     description = request.get("description") or (
         f"The paper's study{quick} as `flexride paper report` runs it: {len(specs)} runs, "
-        f"{options.seeds} realisation(s) per random condition; the report (index.html, "
+        f"{options.seed_count()} realisation(s) per random condition; the report (index.html, "
         "summary.json) is built when every run has finished.")
     spec = {**request, "report": {"options": options.to_dict(),
                                   "runs": [s.to_dict() for s in specs]}}
