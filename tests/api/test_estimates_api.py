@@ -61,6 +61,19 @@ def test_a_preset_answer_is_the_library_estimate(client):
     assert sorted(names) == sorted(["PR", "PFB", "PC", "PRB", "PLA", "PRA"])
 
 
+def test_the_linearisation_option_is_the_library_estimate_with_it(sqlite_client):
+    """``linearisation`` reaches the estimate (the default is the statistical one, stated in
+    the model summary and the method); local gives the library's local estimate."""
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"]})
+    assert r.status_code == 200, r.text
+    assert r.json()["model"]["linearisation"]["method"] == "statistical"
+    assert "quasi-linearised" in r.json()["comfort"]["method"]
+    r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "linearisation": "local"})
+    assert r.status_code == 200, r.text
+    oracle = estimate(preset(BASE), points=["PC"], linearisation="local").to_dict()
+    _close(_without_timings(r.json()), _without_timings(oracle), 1e-12)
+
+
 def test_a_sweep_of_the_secondary_damping_gives_the_individual_estimates(sqlite_client):
     values = [2.0e4, 5.0e4, 1.0e5, 2.0e5]
     r = _post(sqlite_client, {"preset": BASE, "points": ["PC"], "sweep": {
@@ -169,6 +182,7 @@ def test_bad_sweeps_are_422_at_the_value(sqlite_client, sweep, loc, words):
     ({"preset": BASE, "points": ["PX"]}, ["points", 0]),
     ({"preset": BASE, "overrides": {"speed_kmh": 999}}, ["speed_kmh"]),
     ({"preset": BASE, "track": "soft"}, ["body", "track"]),
+    ({"preset": BASE, "linearisation": "linear"}, ["body", "linearisation"]),
     ({"preset": "nope"}, ["preset"]),
     ({"preset": BASE, "scenario": {"preset": BASE}}, ["body"]),
 ])

@@ -25,6 +25,11 @@ Two links, each with its own oracle:
 
 An 18 s run is too short for a direct statistical comparison (its rms scatters by ±10 %
 around the expectation; the numbers are in docs/analysis.md).
+
+3. **real profiles, quasi-linear estimate vs long solver records.** With the presets'
+   S1002/60E1 the contact is linearised statistically (:mod:`flexride.frequency.quasilinear`)
+   and the estimate's expectations are compared with the solver's indices over 10 km
+   (7.5 min at 80 km/h, 12 min at 50 km/h; the rms of a 10 km record scatters by 2–3 %).
 """
 
 from __future__ import annotations
@@ -35,7 +40,7 @@ from scipy import signal
 
 from conftest import CONICAL, preset
 from flexride.analysis import apply_weighting, sperling, split_quasistatic, welch_psd
-from flexride.frequency import comfort, linear_model, linear_time_history, response
+from flexride.frequency import comfort, estimate, linear_model, linear_time_history, response
 from flexride.frequency.indices import dynamic_part_gain
 from flexride.solver.assemble import assemble
 from flexride.solver.simulate import simulate
@@ -174,3 +179,43 @@ def test_the_conical_case_flags_flange_contact():
     """With the cone's 8 mm clearance the estimate says that flange contact is likely."""
     table = comfort(response(linear_model(preset("paper-random-straight-80", **CONICAL))))
     assert any("flange contact likely" in f for f in table.flags)
+
+
+#: Length of the solver's records with real profiles (m).
+PROFILE_RECORD_M = 10_000.0
+#: Skipped at their start (s): the solver starts from statics and the profile fades in.
+PROFILE_SKIP_S = 10.0
+
+
+@pytest.fixture(scope="module", params=[80, 50])
+def profile_record(request):
+    """The solver over 10 km of ``paper-random-straight-{80,50}`` with its S1002/60E1
+    profiles (rigid bodies), and the default (quasi-linear) estimate of the same scenario."""
+    sc = preset(f"paper-random-straight-{request.param}", distance_m=PROFILE_RECORD_M,
+                duration_s=None)
+    res = simulate(sc)
+    skip = int(PROFILE_SKIP_S * res.sample_rate)
+    return sc, res.sample_rate, {k: v[skip:] for k, v in res.channels.items()}, estimate(sc)
+
+
+@pytest.mark.parametrize("point", ["PC", "PFB", "PR"])
+def test_profiles_quasi_linear_lateral_rms_against_the_solver(profile_record, point):
+    """Car-body lateral rms within 10 %: statistical linearisation is approximate (a Gaussian
+    Δy where the solver's has flange contacts 1–2 % of the time, 20 Gauss–Hermite nodes on a
+    Δr with a jump, the mean force shift and the creep relaxation neglected). Measured
+    −8.1 … −1.4 % (docs/analysis.md); the local linearisation was −2 … +20 %."""
+    _sc, _fs, rec, est = profile_record
+    td = float(np.std(rec[f"carbody.{point}.acc.y"]))
+    assert est.comfort.point(point).directions["y"].rms == pytest.approx(td, rel=0.10)
+    assert est.model.quasi_linear.converged
+
+
+def test_profiles_quasi_linear_lateral_sperling_at_pc(profile_record):
+    """Lateral Sperling at PC within 3 % (measured −2.1 / −2.2 % at 80 / 50 km/h; local
+    +7.2 / +4.5 %); the vertical one is unchanged by the contact's linearisation (within 3 %
+    too)."""
+    _sc, fs, rec, est = profile_record
+    pc = est.comfort.point("PC").directions
+    for d in ("y", "z"):
+        assert pc[d].sperling == pytest.approx(sperling(rec[f"carbody.PC.acc.{d}"], fs, d).value,
+                                               rel=0.03), d

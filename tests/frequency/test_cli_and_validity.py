@@ -49,6 +49,23 @@ def test_cli_bad_input_is_one_line_and_exit_2(args, words):
     assert len(lines) == 1 and words in lines[0], out.output
 
 
+def test_cli_linearisation_option_is_stated_in_the_method():
+    """``--linearisation`` reaches the estimate; the method line says which was used."""
+    args = ["estimate", "--preset", "paper-random-straight-80", "--points", "PC", "--json"]
+    methods = {}
+    for choice in ("local", "statistical"):
+        out = runner.invoke(app, [*args, "--linearisation", choice])
+        assert out.exit_code == 0, out.output
+        data = json.loads(out.output)
+        assert data["model"]["linearisation"]["method"] == choice
+        methods[choice] = data["comfort"]["method"]
+    assert "local slopes" in methods["local"]
+    assert "quasi-linearised" in methods["statistical"]
+    assert "converged in" in methods["statistical"]
+    out = runner.invoke(app, [*args[:-1], "--linearisation", "linear"])
+    assert out.exit_code == 2 and "--linearisation" in out.output
+
+
 def test_transient_excitations_are_refused_with_their_reason():
     with pytest.raises(LinearisationError) as err:
         linear_model(preset("paper-corrugation-80"))
@@ -72,11 +89,12 @@ def test_estimate_is_json_able():
 def test_profiles_flag_a_conicity_that_changes_over_the_wheelsets_motion():
     """The presets' S1002/60E1 pair has a local conicity of 0.11 about the centre and an
     equivalent conicity (EN 15302) of 0.16–0.17 at the wheelsets' ŷ = √2·σ ≈ 3–4 mm: the
-    estimate says its lateral part is doubtful (measured 17–29 % high in rms against the solver,
-    docs/analysis.md); the cone, linear in Δy, has no such flag."""
+    local linearisation says its lateral part is doubtful (measured 17–29 % high in rms against
+    the solver, docs/analysis.md); the cone, linear in Δy, has no such flag, nor has the
+    quasi-linear estimate once its iteration converged (tests/frequency/test_quasilinear.py)."""
     from flexride.contact.conicity import equivalent_conicity
 
-    model = linear_model(preset("paper-random-straight-80"))
+    model = linear_model(preset("paper-random-straight-80"), linearisation="local")
     flags = comfort(response(model)).flags
     mine = [f for f in flags if "contact geometry not linear" in f]
     assert len(mine) == 4, flags

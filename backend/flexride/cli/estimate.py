@@ -85,18 +85,29 @@ def estimate(
         "--strict/--no-strict",
         help="Refuse (default) or only flag a scenario the linear model does not hold for "
              "(flange contact at equilibrium, non-random excitation)")] = True,
+    linearisation: Annotated[str | None, typer.Option(
+        "--linearisation",
+        help="Contact linearisation with real profiles: statistical (Gaussian-equivalent "
+             "gains at the response's own amplitude, iterated; the default) or local (slopes "
+             "at the operating point)")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables")] = False,
 ) -> None:
     """Estimate ride comfort in the frequency domain (linearised model, track spectra)."""
     from flexride.cli import _load, command_overrides
     from flexride.frequency import estimate as run_estimate
+    from flexride.frequency.model import DEFAULT_LINEARISATION, LINEARISATIONS
 
     try:
         scenario = _load(scenario_file, preset, command_overrides(set_, speed, body_model))
         if track not in ("condensed", "modal", "rigid"):
             raise ScenarioError(f"--track must be condensed, modal or rigid, got {track!r}")
+        method = linearisation or DEFAULT_LINEARISATION
+        if method not in LINEARISATIONS:
+            raise ScenarioError(f"--linearisation must be {' or '.join(LINEARISATIONS)}, got "
+                                f"{method!r}")
         pts = [p.strip() for p in points.split(",") if p.strip()] if points else None
-        est = run_estimate(scenario, pts, track, strict=strict)  # type: ignore[arg-type]
+        est = run_estimate(scenario, pts, track, strict=strict,  # type: ignore[arg-type]
+                           linearisation=method)
     except FlexrideError as exc:
         _fail(str(exc))
     data = est.comfort.to_dict()

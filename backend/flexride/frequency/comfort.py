@@ -24,7 +24,7 @@ __all__ = ["METHOD", "ComfortTable", "DirectionComfort", "PointComfort", "comfor
 METHOD = ("frequency domain: vehicle-track model linearised about its steady state on smooth "
           "track (rail window frozen, {track} track), driven by the German track spectra at "
           "the running speed with the wheelsets' delays; indices are the expectations of the "
-          "time-domain definitions for a stationary Gaussian response")
+          "time-domain definitions for a stationary Gaussian response; {contact}")
 #: Number of standard deviations of the dynamic wheel load or lateral displacement that must
 #: stay within the static load / flange clearance.
 N_SIGMA = 3.0
@@ -192,12 +192,23 @@ def _flags(resp: ResponseSpectra) -> list[str]:
     return flags + _profile_flags(resp, dict(zip(resp.wheel_channels, sigma, strict=True)))
 
 
+def _contact_method(model: Any) -> str:
+    """How the contact was linearised, for the method statement."""
+    ql = model.quasi_linear
+    return ql.describe() if ql is not None else "contact linearised by local slopes"
+
+
 def _profile_flags(resp: ResponseSpectra, sigma: dict[str, float]) -> list[str]:
     """Per wheelset, where the profiles' local conicity at the steady state and their
     equivalent conicity (EN 15302, first harmonic) at the amplitude ŷ = √2·σ of the wheelset's
     lateral motion on the rail differ by more than :data:`CONICITY_MISMATCH`: the estimate
-    linearises the first, the wheelset sees the second.
+    linearises the first, the wheelset sees the second. Not when the contact was
+    quasi-linearised at that σ and the iteration converged (its non-convergence is a flag of
+    its own).
     """
+    ql = resp.model.quasi_linear
+    if ql is not None and ql.applied and ql.converged:
+        return []
     lin = resp.model.linearisation
     table = None if lin is None else lin.op.asm.profiles
     if resp.model.static_wheel["contact_model"] != "profiles" or not isinstance(
@@ -263,7 +274,8 @@ def comfort(resp: ResponseSpectra) -> ComfortTable:
         points.append(PointComfort(name, on_floor.get(name), dv, nmv))
     return ComfortTable(
         scenario=model.scenario.name, speed_kmh=float(model.scenario.speed_kmh),
-        track=model.track, method=METHOD.format(track=model.track), points=points,
+        track=model.track, method=METHOD.format(track=model.track, contact=_contact_method(model)),
+        points=points,
         flags=list(model.flags) + _flags(resp),
         settings={"frequency_hz": [float(f[0]), float(f[-1])], "n_frequencies": int(f.size),
                   "sperling": "spectral form: expected line power of 5 s rectangular segments "

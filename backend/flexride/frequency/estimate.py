@@ -11,7 +11,12 @@ from typing import Any
 from flexride.frequency.comfort import ComfortTable, comfort
 from flexride.frequency.errors import LinearisationError
 from flexride.frequency.floor import FloorMap, floor_map, floor_scenario
-from flexride.frequency.model import LinearModel, linear_model
+from flexride.frequency.model import (
+    DEFAULT_LINEARISATION,
+    LinearisationMethod,
+    LinearModel,
+    linear_model,
+)
 from flexride.frequency.reduce import TrackModel
 from flexride.frequency.response import ResponseSpectra, response
 from flexride.scenario.scenario import Scenario
@@ -61,7 +66,8 @@ class Estimate:
 def estimate(scenario: Scenario, points: Sequence[str] | None = None,
              track: TrackModel = "condensed", *, strict: bool = True,
              vehicle: VehicleModel | None = None,
-             sources: MeasuredSources = LIBRARY, floor_grid_m: float | None = None) -> Estimate:
+             sources: MeasuredSources = LIBRARY, floor_grid_m: float | None = None,
+             linearisation: LinearisationMethod = DEFAULT_LINEARISATION) -> Estimate:
     """Frequency-domain comfort estimate of ``scenario``.
 
     Parameters
@@ -81,6 +87,8 @@ def estimate(scenario: Scenario, points: Sequence[str] | None = None,
     floor_grid_m : float, optional
         Also map the comfort over the floor grid of this spacing (m; ``Estimate.floor``,
         :mod:`flexride.frequency.floor`). Not with a prebuilt ``vehicle``.
+    linearisation : {"statistical", "local"}
+        How the contact is linearised (:func:`~flexride.frequency.model.linear_model`).
 
     Raises
     ------
@@ -93,7 +101,8 @@ def estimate(scenario: Scenario, points: Sequence[str] | None = None,
     if floor_grid_m is not None:
         scenario = floor_scenario(scenario, floor_grid_m)
     with small_dense_problems():
-        model = linear_model(scenario, track, vehicle=vehicle, strict=strict, sources=sources)
+        model = linear_model(scenario, track, vehicle=vehicle, strict=strict, sources=sources,
+                             linearisation=linearisation)
         if model.spectra is None:  # nothing random to respond to
             raise LinearisationError(NO_RANDOM, "excitation")
         if points is None and floor_grid_m is not None:  # the grid is in the floor map

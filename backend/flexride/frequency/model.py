@@ -16,7 +16,10 @@ Steps (the costly part of an estimate, done once per scenario):
    wheels' normal force and lateral position relative to the rail;
 4. the track model (:mod:`flexride.frequency.reduce`): rail modes condensed (default), all
    kept, or rigid rails;
-5. the eigendecomposition of the state matrix, refused if a mode is unstable (hunting).
+5. the eigendecomposition of the state matrix, refused if a mode is unstable (hunting);
+6. with real profiles (``linearisation="statistical"``, the default), the contact's
+   derivatives in each wheel's lateral displacement replaced by Gaussian-equivalent gains at
+   the response's own σ, iterated (:mod:`flexride.frequency.quasilinear`).
 
 Outputs are the accelerations of every recorded point, as the kernel records them: the second
 derivative of the point's displacement plus, laterally, the gravity component g·φ_x the
@@ -27,7 +30,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -53,6 +56,14 @@ from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.vehicle.topology import RecordedPoint, VehicleModel
 
 __all__ = ["LinearModel", "Linearisation", "linear_model", "linearise", "model_from"]
+
+LinearisationMethod = Literal["statistical", "local"]
+#: How the contact is linearised (:mod:`flexride.frequency.quasilinear`): Gaussian-equivalent
+#: gains at the response's own amplitude (profile contact; the conical tread is linear and
+#: stays local), or local slopes at the operating point everywhere.
+LINEARISATIONS: tuple[LinearisationMethod, ...] = ("statistical", "local")
+#: The default (checked against the time-domain solver with S1002/60E1: docs/analysis.md).
+DEFAULT_LINEARISATION: LinearisationMethod = "statistical"
 
 #: A mode whose eigenvalue has a real part above this (1/s) makes the model unstable.
 UNSTABLE_RATE = 1e-3
@@ -148,6 +159,10 @@ class LinearModel:
         The full system it was reduced from (kept for parameter sweeps).
     reduced : Reduced, optional
         The track reduction (kept for parameter sweeps).
+    quasi_linear : QuasiLinear, optional
+        How the contact was linearised (:mod:`flexride.frequency.quasilinear`); with the
+        statistical linearisation ``linearisation`` is still the local one (what sweeps reuse)
+        and ``quasi_linear.linearisation`` the one ``system`` was reduced from.
     """
 
     scenario: Scenario
@@ -168,6 +183,7 @@ class LinearModel:
     info: dict[str, Any] = field(default_factory=dict)
     linearisation: Linearisation | None = field(default=None, repr=False, compare=False)
     reduced: Reduced | None = field(default=None, repr=False, compare=False)
+    quasi_linear: Any = field(default=None, repr=False, compare=False)
 
     @property
     def duration(self) -> float:
@@ -187,6 +203,8 @@ class LinearModel:
                 "points": [p.to_dict() for p in self.points], "modes_below_30_hz": low,
                 "static_wheel": self.static_wheel, "quasi_static": self.quasi_static,
                 "flags": list(self.flags), "info": self.info,
+                "linearisation": (self.quasi_linear.to_dict() if self.quasi_linear is not None
+                                  else {"method": "local", "applied": False}),
                 "spectra": self.spectra.to_dict() if self.spectra else None}
 
 
@@ -281,7 +299,8 @@ def _check_stable(modes: Modes, info: list[ModeInfo]) -> None:
 
 def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
                  vehicle: VehicleModel | None = None, strict: bool = True,
-                 sources: MeasuredSources = LIBRARY) -> LinearModel:
+                 sources: MeasuredSources = LIBRARY,
+                 linearisation: LinearisationMethod = DEFAULT_LINEARISATION) -> LinearModel:
     """Linearise ``scenario`` about its steady state on smooth track.
 
     Parameters
@@ -299,6 +318,11 @@ def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
         and the model is built anyway (an unstable system always raises).
     sources : MeasuredSources
         Where uploaded wheel and rail profiles are read from (default: files by path).
+    linearisation : {"statistical", "local"}
+        How the contact is linearised (:mod:`flexride.frequency.quasilinear`): with real
+        profiles, Gaussian-equivalent gains in each wheel's lateral displacement at the
+        response's own σ, iterated (default, :data:`DEFAULT_LINEARISATION`; the conical tread
+        is linear and stays local); or local slopes at the operating point.
 
     Returns
     -------
@@ -307,14 +331,18 @@ def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
     Raises
     ------
     LinearisationError
-        See ``strict``; also when no steady state exists or the system is unstable.
+        See ``strict``; also when no steady state exists, the system is unstable or the
+        quasi-linearisation does not converge (``strict``; else a flag).
 
     Notes
     -----
     BLAS runs on one thread meanwhile (dense problems of a few hundred unknowns: threads
     competing on a loaded machine made them several times slower).
     """
+    from flexride.frequency.quasilinear import check_linearisation, with_linearisation
+
     check_track_model(track)
+    check_linearisation(linearisation)
     with small_dense_problems():
         t0 = time.perf_counter()
         flags: list[str] = []
@@ -322,7 +350,8 @@ def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
         asm = assemble(smooth_scenario(scenario), vehicle=vehicle, sources=sources)
         op = operating_point_or_flag(scenario, asm, strict, flags)
         t1 = time.perf_counter()
-        return model_from(scenario, linearise(op), track, spectra, flags, (t0, t1))
+        model = model_from(scenario, linearise(op), track, spectra, flags, (t0, t1))
+        return with_linearisation(model, linearisation, strict)
 
 
 def check_track_model(track: str) -> None:

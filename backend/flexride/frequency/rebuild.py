@@ -35,7 +35,9 @@ import numpy as np
 from flexride.frequency.jacobians import jacobian_columns
 from flexride.frequency.lti import SecondOrderSystem
 from flexride.frequency.model import (
+    DEFAULT_LINEARISATION,
     Linearisation,
+    LinearisationMethod,
     LinearModel,
     check_track_model,
     linearise,
@@ -45,6 +47,7 @@ from flexride.frequency.model import (
     spectra_or_flag,
 )
 from flexride.frequency.operating_point import OperatingPoint, WarmStart, warm_start
+from flexride.frequency.quasilinear import check_linearisation, with_linearisation
 from flexride.frequency.reduce import TrackModel
 from flexride.scenario.scenario import Scenario
 from flexride.solver import assemble as A
@@ -166,6 +169,9 @@ class ModelRebuilder:
         See :func:`~flexride.frequency.model.linear_model`.
     sources : MeasuredSources
         Where measured data and uploaded profiles are read from.
+    linearisation : {"statistical", "local"}
+        How the contact is linearised (:func:`~flexride.frequency.model.linear_model`); the
+        reuse works on the local linearisation, the statistical one is made from it anew.
 
     Attributes
     ----------
@@ -177,14 +183,16 @@ class ModelRebuilder:
     track: TrackModel = "condensed"
     strict: bool = True
     sources: MeasuredSources = LIBRARY
+    linearisation: LinearisationMethod = DEFAULT_LINEARISATION
     stats: Counter[str] = field(default_factory=Counter)
     _contacts: dict[str, Any] = field(default_factory=dict, repr=False)
     _previous: LinearModel | None = field(default=None, repr=False)
     _warm: WarmStart | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
-        """Refuse an unknown track model at once."""
+        """Refuse an unknown track model or linearisation at once."""
         check_track_model(self.track)
+        check_linearisation(self.linearisation)
 
     def model(self, scenario: Scenario, vehicle: VehicleModel | None = None) -> LinearModel:
         """The linear model of ``scenario``.
@@ -211,7 +219,7 @@ class ModelRebuilder:
                 and prev_red.condensation is not None):
             self.stats["condensation_reused"] += 1
         self._remember(model, op)
-        return model
+        return with_linearisation(model, self.linearisation, self.strict)
 
     def _assemble(self, scenario: Scenario, vehicle: VehicleModel | None) -> A.Assembly:
         """The assembly, with the contact tables kept between values."""

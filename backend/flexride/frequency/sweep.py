@@ -20,6 +20,7 @@ import numpy as np
 from flexride.errors import FlexrideError
 from flexride.frequency.comfort import ComfortTable, comfort
 from flexride.frequency.estimate import estimate
+from flexride.frequency.model import DEFAULT_LINEARISATION, LinearisationMethod
 from flexride.frequency.rebuild import ModelRebuilder
 from flexride.frequency.reduce import TrackModel
 from flexride.frequency.response import response
@@ -89,7 +90,8 @@ class SweepResult:
 def sweep(scenario: Scenario, parameter_path: str, values: Sequence[Any],
           points: Sequence[str] | None = None, track: TrackModel = "condensed", *,
           strict: bool = True, reuse: bool = True,
-          sources: MeasuredSources = LIBRARY) -> SweepResult:
+          sources: MeasuredSources = LIBRARY,
+          linearisation: LinearisationMethod = DEFAULT_LINEARISATION) -> SweepResult:
     """Estimate the comfort of ``scenario`` with ``parameter_path`` set to each of ``values``.
 
     Parameters
@@ -111,6 +113,8 @@ def sweep(scenario: Scenario, parameter_path: str, values: Sequence[Any],
         from scratch (:func:`~flexride.frequency.estimate.estimate`, the reference).
     sources : MeasuredSources
         Where uploaded profiles are read from.
+    linearisation : {"statistical", "local"}
+        How the contact is linearised (:func:`~flexride.frequency.model.linear_model`).
 
     Raises
     ------
@@ -123,14 +127,15 @@ def sweep(scenario: Scenario, parameter_path: str, values: Sequence[Any],
     vehicle_reusable = parameter_path.split(".")[0] not in _VEHICLE_PATHS
     return sweep_scenarios(scenarios, parameter_path, list(values), points, track,
                            strict=strict, reuse=reuse, sources=sources,
-                           share_vehicle=vehicle_reusable)
+                           share_vehicle=vehicle_reusable, linearisation=linearisation)
 
 
 def sweep_scenarios(scenarios: Sequence[Scenario], parameter: str, values: list[Any],
                     points: Sequence[str] | None = None, track: TrackModel = "condensed", *,
                     strict: bool = True, reuse: bool = True,
                     sources: MeasuredSources = LIBRARY,
-                    share_vehicle: bool = False) -> SweepResult:
+                    share_vehicle: bool = False,
+                    linearisation: LinearisationMethod = DEFAULT_LINEARISATION) -> SweepResult:
     """The comfort estimates of ``scenarios`` (validated, one per value of ``parameter``), in
     order; a refused value gives None and its reason.
 
@@ -142,14 +147,14 @@ def sweep_scenarios(scenarios: Sequence[Scenario], parameter: str, values: list[
         Dotted path of the swept field (for the result).
     values : list
         Its values (for the result).
-    points, track, strict, reuse, sources :
+    points, track, strict, reuse, sources, linearisation :
         See :func:`sweep`.
     share_vehicle : bool
         The scenarios have the same vehicle (built once when it has flexible bodies).
     """
     t0 = time.perf_counter()
     vehicle = _shared_vehicle(scenarios[0]) if share_vehicle and scenarios else None
-    rebuilder = ModelRebuilder(track, strict, sources) if reuse else None
+    rebuilder = ModelRebuilder(track, strict, sources, linearisation) if reuse else None
     tables: list[ComfortTable | None] = []
     errors: list[str | None] = []
     reasons: list[str | None] = []
@@ -158,7 +163,8 @@ def sweep_scenarios(scenarios: Sequence[Scenario], parameter: str, values: list[
             try:
                 if rebuilder is None:
                     tables.append(estimate(sc, points, track, strict=strict, vehicle=vehicle,
-                                           sources=sources).comfort)
+                                           sources=sources,
+                                           linearisation=linearisation).comfort)
                 else:
                     tables.append(comfort(response(rebuilder.model(sc, vehicle),
                                                    points=points)))

@@ -58,7 +58,7 @@ RESPONSES: dict[int | str, dict[str, Any]] = {
              responses=RESPONSES, summary="Frequency-domain comfort estimate")
 def create_estimate(body: EstimateCreate, request: Request, svc: ServicesDep) -> Response:
     """The comfort indices of a scenario from its linearised vehicle–track model driven by the
-    track spectra — what ``flexride estimate --json`` prints, in about 0.3 s for a rigid
+    track spectra — what ``flexride estimate --json`` prints, in about 0.3–0.5 s for a rigid
     vehicle (docs/analysis.md, "Frequency-domain estimate"): per point the rms, ISO 2631
     weighted rms, Sperling, EN 12299 a_P95 / N_MV, the expected peak and the eigenmodes that
     carry the comfort-weighted variance.
@@ -75,8 +75,14 @@ def create_estimate(body: EstimateCreate, request: Request, svc: ServicesDep) ->
     422 at ``["floor_map", "spacing_m"]`` for a grid beyond the service's limit of recorded
     points).
 
+    With real wheel and rail profiles the contact is quasi-linearised by default
+    (``linearisation: "statistical"``: Gaussian-equivalent gains over each wheel's lateral
+    motion on the rail, iterated to the response's own amplitude; ``"local"`` takes the slopes
+    at the operating point); the model summary's ``linearisation`` says how it went.
+
     A scenario the linear model does not hold for (flange contact or lost contact at
-    equilibrium, a transient excitation, hunting) is refused with 422 unless ``strict`` is
+    equilibrium, a transient excitation, hunting, a quasi-linearisation that does not settle)
+    is refused with 422 unless ``strict`` is
     false; the time-domain job (``POST /jobs``) is the answer then. With ``refusal:
     "answer"`` the refusal is a 200 answer with ``applicable: false``, the reason and the
     located reasons (for a client that asks whether the estimate applies). A flexible body is

@@ -9,6 +9,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
 from flexride.api.schemas.common import ScenarioInput, _Strict
+from flexride.frequency.model import DEFAULT_LINEARISATION, LinearisationMethod
 from flexride.vehicle.topology import PAPER_POINT_NAMES
 
 MAX_SWEEP_VALUES = 100
@@ -69,6 +70,12 @@ class EstimateCreate(ScenarioInput):
         True, description="Refuse (422) a scenario the linear model does not hold for (flange "
         "contact or lost contact at equilibrium, a non-random excitation); false: estimate it "
         "anyway with the reason in 'flags'")
+    linearisation: LinearisationMethod = Field(
+        DEFAULT_LINEARISATION, description="How the wheel-rail contact is linearised with real "
+        "profiles: statistical (default: each wheel's contact forces by their "
+        "Gaussian-equivalent gains over its lateral motion on the rail, at the response's own "
+        "amplitude, iterated until it settles) or local (slopes at the operating point). "
+        "The conical tread is linear and gives the same either way")
     sweep: SweepSpec | None = Field(
         None, description="Estimate the scenario at each of several values of one field "
         "instead (the answer is then the series of every index against the values)")
@@ -160,6 +167,7 @@ class SweepOut(BaseModel):
     points: list[str]
     track: TrackModelName
     strict: bool
+    linearisation: LinearisationMethod
     series: dict[str, dict[str, dict[str, list[float | None]]]] = Field(description=(
         "point → direction (y, z) → index → one number per value (null where refused): rms, "
         "Wb/Wk/Wd (ISO 2631 weighted rms), sperling, sperling_filter, a_p95, peak (m/s² but "

@@ -59,7 +59,8 @@ DIRECTION_INDICES = ("rms", "sperling", "sperling_filter", "a_p95", "peak")
 #: Where a refusal points in the request, by reason.
 REASON_LOC: dict[str, list[str | int]] = {
     "flange_contact": ["strict"], "contact_loss": ["strict"], "excitation": ["excitation"],
-    "track": ["track"], "unstable": [], "equilibrium": []}
+    "track": ["track"], "unstable": [], "equilibrium": [], "quasi_linear": ["linearisation"],
+    "linearisation": ["linearisation"]}
 #: What to do about a refusal, by reason.
 ADVICE = {
     "flange_contact": "run the time-domain simulation of the scenario (POST "
@@ -74,6 +75,10 @@ ADVICE = {
     f"simulation (POST {API_PREFIX}/jobs) to see the motion, or lower speed_kmh",
     "equilibrium": "there is no steady state to linearise about: run the time-domain "
     f"simulation (POST {API_PREFIX}/jobs)",
+    "quasi_linear": "the wheelsets' lateral motion did not settle in the quasi-linearisation "
+    f"of the contact: run the time-domain simulation (POST {API_PREFIX}/jobs), ask again with "
+    "\"strict\": false for an estimate flagged as doubtful, or with \"linearisation\": "
+    "\"local\"",
 }
 _BODY_FIELDS = (("carbody", "carbody", "car body"), ("frames", "frame", "bogie frames"))
 
@@ -302,7 +307,8 @@ def sweep_content(res: SweepResult, points: list[str], body: EstimateCreate) -> 
                for i, (v, e, r) in enumerate(zip(res.values, res.errors, res.reasons,
                                                  strict=True)) if e is not None]
     return {"parameter": res.parameter, "values": res.values, "points": points,
-            "track": body.track, "strict": body.strict, "series": series, "nmv": nmv,
+            "track": body.track, "strict": body.strict, "linearisation": body.linearisation,
+            "series": series, "nmv": nmv,
             "flags": [list(t.flags) if t is not None else [] for t in tables],
             "refused": refused, "reuse": res.reuse, "seconds": res.seconds}
 
@@ -313,12 +319,14 @@ def _content(svc: Services, body: EstimateCreate, base: Scenario,
     sources = svc.uploads.sources
     if values is None or body.sweep is None:
         est = estimate(base, body.points, body.track, strict=body.strict, sources=sources,
-                       floor_grid_m=body.floor_map.spacing_m if body.floor_map else None)
+                       floor_grid_m=body.floor_map.spacing_m if body.floor_map else None,
+                       linearisation=body.linearisation)
         return est.to_dict(arrays=body.spectra)
     top = body.sweep.parameter.split(".")[0]
     res = sweep_scenarios(values, body.sweep.parameter, list(body.sweep.values), body.points,
                           body.track, strict=body.strict, sources=sources,
-                          share_vehicle=top not in ("vehicle", "bodies", "output"))
+                          share_vehicle=top not in ("vehicle", "bodies", "output"),
+                          linearisation=body.linearisation)
     return sweep_content(res, body.points, body)
 
 
@@ -328,7 +336,7 @@ def _key(svc: Services, body: EstimateCreate, scenarios: list[Scenario],
     where uploads are read from.
     """
     options = body.model_dump(mode="json", include={"points", "track", "strict", "sweep",
-                                                     "spectra", "floor_map"})
+                                                     "spectra", "floor_map", "linearisation"})
     return canonical_json({"scenarios": [(scenario_hash(sc), sc.name) for sc in scenarios],
                            "options": options, "uploads": str(svc.uploads.sources.upload_dir),
                            "gzip": gzip_min})
