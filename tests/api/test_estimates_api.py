@@ -343,3 +343,40 @@ def test_a_floor_map_is_not_made_with_a_sweep(sqlite_client):
     assert r.status_code == 422
     item = r.json()["detail"][0]
     assert item["loc"] == ["body", "floor_map"] and "not with a sweep" in item["msg"], item
+
+
+def test_an_uploaded_measured_record_is_estimated_as_the_library_does(sqlite_client, tmp_path):
+    """A measured irregularity uploaded as CSV (never a server path): the answer is the
+    library's estimate of the same record; a record too short for its spectrum is 422 at the
+    excitation."""
+    import numpy as np
+
+    from flexride.scenario.presets import CONICAL_TREAD
+    from flexride.track.spectra import random_profile
+
+    prof = random_profile(1500.0, "high", ("vertical", "alignment"), 1.0, 120.0, seed=2,
+                          ds=0.5, fade_in_m=0.0)
+    s = prof.s0 + prof.ds * np.arange(prof.z_left.size)
+    rows = np.column_stack([s, prof.z_left, prof.z_right, prof.y_left, prof.y_right])
+    text = "distance_m,z_left,z_right,y_left,y_right\n" + "\n".join(
+        ",".join(f"{v:.9e}" for v in r) for r in rows)
+    up = sqlite_client.post("/api/v1/irregularities", content=text.encode(),
+                            headers={"Content-Type": "text/csv"})
+    assert up.status_code == 201, up.text
+    exc = [{"kind": "measured", "upload": up.json()["id"]}]
+    body = {"preset": BASE, "overrides": {**CONICAL_TREAD, "excitation": exc}, "points": ["PC"]}
+    r = _post(sqlite_client, body)
+    assert r.status_code == 200, r.text
+    path = tmp_path / "record.csv"
+    path.write_text(text)
+    lib = estimate(preset(BASE, **CONICAL_TREAD,
+                          excitation=[{"kind": "measured", "path": str(path)}]), ["PC"])
+    got = r.json()["comfort"]["points"][0]["directions"]
+    for d in ("y", "z"):
+        assert got[d]["rms"] == pytest.approx(lib.comfort.points[0].directions[d].rms, rel=1e-9)
+    short = text.split("\n")[:400]  # 200 m: fewer than four 256 m segments
+    up2 = sqlite_client.post("/api/v1/irregularities", content="\n".join(short).encode(),
+                             headers={"Content-Type": "text/csv"})
+    body["overrides"]["excitation"] = [{"kind": "measured", "upload": up2.json()["id"]}]
+    r2 = _post(sqlite_client, body)
+    assert r2.status_code == 422 and r2.json()["detail"][0]["loc"] == ["excitation"], r2.text

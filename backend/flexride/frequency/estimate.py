@@ -19,6 +19,7 @@ from flexride.frequency.model import (
 )
 from flexride.frequency.reduce import TrackModel
 from flexride.frequency.response import ResponseSpectra, response
+from flexride.frequency.track_input import STATIONARY_KINDS
 from flexride.scenario.scenario import Scenario
 from flexride.solver.simulate import small_dense_problems
 from flexride.track.measured import LIBRARY, MeasuredSources
@@ -95,7 +96,7 @@ def estimate(scenario: Scenario, points: Sequence[str] | None = None,
     LinearisationError
         The linear estimate does not hold (reason in the message).
     """
-    if not any(e.kind == "random" for e in scenario.excitation) and (
+    if not any(e.kind in STATIONARY_KINDS for e in scenario.excitation) and (
             not strict or not scenario.excitation):
         raise LinearisationError(NO_RANDOM, "excitation")  # before building a model
     if floor_grid_m is not None:

@@ -45,7 +45,7 @@ from flexride.frequency.operating_point import (
     solve_operating_point,
 )
 from flexride.frequency.reduce import TRACK_MODELS, Reduced, TrackModel, reduce_track
-from flexride.frequency.track_input import TrackSpectra, track_spectra
+from flexride.frequency.track_input import STATIONARY_KINDS, TrackSpectra, track_spectra
 from flexride.results import Channel
 from flexride.scenario.scenario import Scenario
 from flexride.solver import system as S
@@ -346,7 +346,7 @@ def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
     with small_dense_problems():
         t0 = time.perf_counter()
         flags: list[str] = []
-        spectra = spectra_or_flag(scenario, strict, flags)
+        spectra = spectra_or_flag(scenario, strict, flags, sources)
         asm = assemble(smooth_scenario(scenario), vehicle=vehicle, sources=sources)
         op = operating_point_or_flag(scenario, asm, strict, flags)
         t1 = time.perf_counter()
@@ -420,17 +420,24 @@ def model_from(scenario: Scenario, lin: Linearisation, track: TrackModel,
         linearisation=lin, reduced=red)
 
 
-def spectra_or_flag(scenario: Scenario, strict: bool, flags: list[str]) -> TrackSpectra | None:
-    """The scenario's random irregularities; a non-random excitation raises or is flagged."""
+def spectra_or_flag(scenario: Scenario, strict: bool, flags: list[str],
+                    sources: MeasuredSources = LIBRARY) -> TrackSpectra | None:
+    """The scenario's stationary irregularities (random, measured: ``sources`` says where
+    uploads are read from); a transient excitation raises or is flagged.
+    """
     try:
-        return track_spectra(scenario)
+        return track_spectra(scenario, sources=sources)
     except LinearisationError as err:
         if strict and err.reason == "excitation" and scenario.excitation:
             raise
         flags.append(str(err))
-        random_only = scenario.model_copy(update={"excitation": [
-            e for e in scenario.excitation if e.kind == "random"]})
-        return track_spectra(random_only) if random_only.excitation else None
+        stationary = scenario.model_copy(update={"excitation": [
+            e for e in scenario.excitation if e.kind in STATIONARY_KINDS]})
+        try:
+            return track_spectra(stationary, sources=sources) if stationary.excitation else None
+        except LinearisationError as again:  # e.g. a measured record too short for spectra
+            flags.append(str(again))
+            return None
 
 
 def operating_point_or_flag(scenario: Scenario, asm: Assembly, strict: bool, flags: list[str],

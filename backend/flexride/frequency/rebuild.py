@@ -205,7 +205,7 @@ class ModelRebuilder:
         """
         t0 = time.perf_counter()
         flags: list[str] = []
-        spectra = spectra_or_flag(scenario, self.strict, flags)
+        spectra = spectra_or_flag(scenario, self.strict, flags, self.sources)
         asm = self._assemble(smooth_scenario(scenario), vehicle)
         op = operating_point_or_flag(scenario, asm, self.strict, flags, self._warm)
         self.stats[_START_KINDS.get(op.chord_iterations, "warm_start")] += 1

@@ -35,7 +35,10 @@ from flexride.scenario.scenario import Scenario
 from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.track.spectra import german_psd
 
-__all__ = ["RandomInput", "TrackSpectra", "rail_map", "track_spectra"]
+__all__ = ["STATIONARY_KINDS", "RandomInput", "TrackSpectra", "rail_map", "track_spectra"]
+
+STATIONARY_KINDS = ("random", "measured")
+"""Excitation kinds the estimate takes as stationary random inputs (their spectra)."""
 
 
 def rail_map(component: str, half_gauge: float) -> np.ndarray:
