@@ -41,7 +41,7 @@ def test_paper_table3_preset_makes_16_jobs(client):
     assert r.status_code == 201, r.text
     study = r.json()
     assert study["n_jobs"] == 16 and study["status"] == "queued" and len(study["jobs"]) == 16
-    assert [a["name"] for a in study["axes"]] == ["condition", "speed_kmh"]
+    assert [a["name"] for a in study["axes"]] == ["condition", "speed_kmh", "body_model"]
     combos = {(j["axes"]["condition"], j["axes"]["speed_kmh"]) for j in study["jobs"]}
     assert len(combos) == 16 and ("settlement", 60.0) in combos
     jobs = client.get(f"{API}/jobs", params={"study_id": study["id"], "limit": 100}).json()

@@ -14,7 +14,8 @@ QUICK = {"duration_s": 1.0, "distance_m": None}
 
 def test_paper_table3_is_the_16_conditions():
     plan = expand_study({"preset": "paper-table3"}, max_jobs=100)
-    assert len(plan.jobs) == 16 and [a.name for a in plan.axes] == ["condition", "speed_kmh"]
+    assert len(plan.jobs) == 16
+    assert [a.name for a in plan.axes] == ["condition", "speed_kmh", "body_model"]
     for job in plan.jobs:
         cond, speed = job.axes["condition"], job.axes["speed_kmh"]
         ref = preset_dict(f"paper-{cond}-{int(speed)}")
@@ -23,6 +24,26 @@ def test_paper_table3_is_the_16_conditions():
         assert s.line.kind == ref["line"]["kind"]
         assert [e.kind for e in s.excitation] == [e["kind"] for e in ref["excitation"]]
     assert {j.axes["condition"] for j in plan.jobs} == set(PAPER_CONDITIONS)
+
+
+def test_paper_table3_is_the_flexible_model_keeping_the_modes_its_excitation_drives():
+    """The paper's model is flexible; 0.5 m corrugation at 80 km/h drives 44.4 Hz, so the
+    bodies keep modes to 1.5 × that rounded up to 10 Hz (70 Hz) at every corrugation speed
+    (one FE reduction per condition), the other conditions the scenario's 40 Hz (random down
+    to λ 1 m: 22 Hz at 80 km/h); ``as_given`` keeps 40 Hz."""
+    def cutoffs(request):
+        plan = expand_study(request, max_jobs=100)
+        return {(j.axes["condition"], j.axes["speed_kmh"]): (
+            j.scenario.bodies.carbody.model, j.scenario.bodies.carbody.cutoff_hz,
+            j.scenario.bodies.frames.cutoff_hz) for j in plan.jobs}
+
+    got = cutoffs({"preset": "paper-table3"})
+    assert got[("corrugation", 80.0)] == ("flexible", 70.0, 70.0)
+    assert got[("corrugation", 50.0)] == ("flexible", 70.0, 70.0)  # alone 50 Hz would do
+    assert got[("random-straight", 80.0)] == ("flexible", 40.0, 40.0)
+    assert got[("settlement", 80.0)] == ("flexible", 40.0, 40.0)
+    kept = cutoffs({"preset": "paper-table3", "cutoff": "as_given"})
+    assert kept[("corrugation", 80.0)] == ("flexible", 40.0, 40.0)
 
 
 def test_paper_table2_is_rigid_against_flexible():

@@ -18,8 +18,12 @@ from typing import Any
 
 from flexride.scenario.scenario import Scenario
 
-__all__ = ["CUTOFF_FACTOR", "CUTOFF_STEP_HZ", "cutoff_notes", "excitation_frequency_hz",
-           "shortest_wavelength", "sufficient_cutoff_hz"]
+__all__ = ["BODY_PARTS", "CUTOFF_FACTOR", "CUTOFF_STEP_HZ", "cutoff_notes",
+           "excitation_frequency_hz", "shortest_wavelength", "sufficient_cutoff_hz",
+           "with_sufficient_cutoff"]
+
+BODY_PARTS = ("carbody", "frames")
+"""The scenario's body-model entries that can be flexible."""
 
 CUTOFF_FACTOR = 1.5
 """Lowest ratio of a flexible body's cut-off to the highest excitation frequency (-)."""
@@ -62,7 +66,7 @@ def cutoff_notes(scenario: Scenario) -> list[str]:
     if f_exc is None:
         return []
     notes = []
-    for part in ("carbody", "frames"):
+    for part in BODY_PARTS:
         body = getattr(scenario.bodies, part)
         need = sufficient_cutoff_hz(f_exc, body.cutoff_hz)
         if body.model == "flexible" and need > body.cutoff_hz:
@@ -72,3 +76,19 @@ def cutoff_notes(scenario: Scenario) -> list[str]:
                 f"(V/λ_min at {scenario.speed_kmh:g} km/h), and {CUTOFF_FACTOR:g} times that "
                 f"needs bodies.{part}.cutoff_hz ≥ {need:g} Hz")
     return notes
+
+
+def with_sufficient_cutoff(scenario: Scenario) -> Scenario:
+    """``scenario`` with every flexible body's cut-off raised to the rule where it is below
+    (unchanged otherwise): what a study does by default (``cutoff: follow``).
+    """
+    f_exc = excitation_frequency_hz(scenario)
+    if f_exc is None:
+        return scenario
+    bodies = scenario.bodies
+    for part in BODY_PARTS:
+        body = getattr(bodies, part)
+        need = sufficient_cutoff_hz(f_exc, body.cutoff_hz)
+        if body.model == "flexible" and need > body.cutoff_hz:
+            bodies = bodies.model_copy(update={part: body.model_copy(update={"cutoff_hz": need})})
+    return scenario.model_copy(update={"bodies": bodies})

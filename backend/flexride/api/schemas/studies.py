@@ -92,6 +92,11 @@ class StudyCreate(_Strict):
         "settlement the whole run), curve (the whole curve with its transitions, otherwise as "
         "paper) or run (the whole run). A section shorter than 6 s of the run falls back to "
         "the whole run; the tables state each index's section.")
+    cutoff: Literal["follow", "as_given"] = Field(
+        "follow", description="Elastic-mode cut-off of flexible bodies: follow (raise each "
+        "job's cut-off to at least 1.5 × its highest excitation frequency V/λ_min, rounded up "
+        "to 10 Hz: 70 Hz for 0.5 m corrugation at 80 km/h) or as_given (the scenario's; a "
+        "job that keeps fewer modes than its excitation drives says so in its notes)")
     quick: bool | None = Field(
         None, description="paper-report preset only: the shortened study of `flexride paper "
         "report --quick` (2 speeds, 1/4 of every evaluated stretch)")
