@@ -114,4 +114,4 @@ def test_new_study_form_takes_seeds_section_and_offers_the_report(page, server):
     assert "1 to 20" in page.locator("#study-seeds-err").inner_text()
     # the paper report: quick or full, its runs fixed by the plan
     assert page.locator("#run-report-quick").inner_text() == "Run quick report"
-    assert "32 jobs" in page.locator("#run-report-full").inner_text()
+    assert "96 jobs" in page.locator("#run-report-full").inner_text()  # 16 + 16 · 5 seeds
