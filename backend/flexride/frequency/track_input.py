@@ -30,10 +30,11 @@ from flexride.scenario.excitation import (
     IRREGULARITY_COMPONENTS,
     MeasuredIrregularity,
     RandomIrregularity,
+    SpectrumTable,
 )
 from flexride.scenario.scenario import Scenario
 from flexride.track.measured import LIBRARY, MeasuredSources
-from flexride.track.spectra import german_psd
+from flexride.track.spectra import component_psd
 
 __all__ = ["STATIONARY_KINDS", "RandomInput", "TrackSpectra", "rail_map", "track_spectra"]
 
@@ -64,18 +65,20 @@ def rail_map(component: str, half_gauge: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class RandomInput:
-    """One random irregularity of the German spectra.
+    """One random irregularity: German spectra or the user's table.
 
     Attributes
     ----------
     level : str
-        ``"german-high"`` or ``"german-low"``.
+        ``"german-high"``, ``"german-low"`` or ``"table"``.
     components : tuple of str
         Components present.
     wavelength_min_m, wavelength_max_m : float
         Band (m), hard edges.
     scale : float
         Amplitude factor (-); the spectrum scales by its square.
+    table : SpectrumTable or None
+        The user's spectra (``level`` ``"table"``).
     """
 
     level: str
@@ -83,6 +86,7 @@ class RandomInput:
     wavelength_min_m: float
     wavelength_max_m: float
     scale: float = 1.0
+    table: SpectrumTable | None = None
 
     def temporal_psd(self, component: str, f: np.ndarray, speed: float,
                      half_gauge: float) -> np.ndarray:
@@ -111,14 +115,15 @@ class RandomInput:
         omega = 2.0 * np.pi * f / speed
         band = (omega >= 2.0 * np.pi / self.wavelength_max_m) & (
             omega <= 2.0 * np.pi / self.wavelength_min_m)
-        s = german_psd(omega, component, self.level, half_gauge) * self.scale**2
+        s = component_psd(self.level, component, half_gauge, self.table)(omega) * self.scale**2
         return np.where(band, 2.0 * np.pi / speed * s, 0.0)
 
     def to_dict(self) -> dict:
         """JSON form."""
         return {"kind": "random", "spectrum": self.level, "components": list(self.components),
                 "wavelength_min_m": self.wavelength_min_m,
-                "wavelength_max_m": self.wavelength_max_m, "scale": self.scale}
+                "wavelength_max_m": self.wavelength_max_m, "scale": self.scale,
+                "table": None if self.table is None else self.table.model_dump(mode="json")}
 
 
 @dataclass(frozen=True)
@@ -184,7 +189,7 @@ def track_spectra(scenario: Scenario, components: Sequence[str] | None = None,
                 "covers random irregularities only (use the time-domain solver)", "excitation")
         comps = tuple(c for c in exc.components if components is None or c in components)
         inputs.append(RandomInput(exc.spectrum, comps, exc.wavelength_min_m,
-                                  exc.wavelength_max_m, exc.scale))
+                                  exc.wavelength_max_m, exc.scale, exc.table))
     if not inputs:
         raise LinearisationError("the scenario has no random irregularity to estimate the "
                                  "response to", "excitation")

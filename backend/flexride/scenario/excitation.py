@@ -19,6 +19,8 @@ y = +b, right rail at y = −b.
 
 from __future__ import annotations
 
+import itertools
+import math
 from typing import Annotated, Literal, Self
 
 from pydantic import Field, field_validator, model_validator
@@ -35,6 +37,7 @@ __all__ = [
     "RandomIrregularity",
     "Settlement",
     "SpectrumName",
+    "SpectrumTable",
 ]
 
 Component = Literal["vertical", "alignment", "cross_level", "gauge"]
@@ -43,8 +46,60 @@ Component = Literal["vertical", "alignment", "cross_level", "gauge"]
 IRREGULARITY_COMPONENTS: tuple[Component, ...] = ("vertical", "alignment", "cross_level", "gauge")
 """All components, in the fixed order that also fixes each component's random stream."""
 
-SpectrumName = Literal["german-high", "german-low"]
-"""German track spectrum: high- or low-disturbance level."""
+SpectrumName = Literal["german-high", "german-low", "table"]
+"""Track spectrum: German high- or low-disturbance level, or the user's table."""
+
+MAX_TABLE_POINTS = 1000
+"""Most points of a tabulated spectrum."""
+
+
+class SpectrumTable(Schema):
+    """A user's one-sided track spectra S(Ω), e.g. a national standard's or a recording's.
+
+    Values at the spatial angular frequencies ``omega_rad_per_m`` (strictly increasing), one
+    list per component given (the same length); between points the spectrum is interpolated
+    linearly in log S against log Ω (power laws stay exact), outside them it is zero. Units as
+    the German spectra's: m²/(rad/m), for cross level the spectrum of the cross-level angle in
+    rad²/(rad/m) (a rail height difference Δz = 2b·angle has the spectrum 4b²·S).
+    """
+
+    omega_rad_per_m: list[float] = quantity(
+        ..., min_length=2, max_length=MAX_TABLE_POINTS, unit="rad/m",
+        description="Spatial angular frequencies Ω = 2π/λ of the table, increasing")
+    vertical: list[float] | None = quantity(
+        None, max_length=MAX_TABLE_POINTS, unit="m²/(rad/m)",
+        description="Vertical profile spectrum at each Ω")
+    alignment: list[float] | None = quantity(
+        None, max_length=MAX_TABLE_POINTS, unit="m²/(rad/m)",
+        description="Alignment spectrum at each Ω")
+    cross_level: list[float] | None = quantity(
+        None, max_length=MAX_TABLE_POINTS, unit="rad²/(rad/m)",
+        description="Cross-level angle spectrum at each Ω")
+    gauge: list[float] | None = quantity(
+        None, max_length=MAX_TABLE_POINTS, unit="m²/(rad/m)",
+        description="Gauge spectrum at each Ω")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> Self:
+        om = self.omega_rad_per_m
+        if not all(math.isfinite(w) and w > 0.0 for w in om) or any(
+                b <= a for a, b in itertools.pairwise(om)):
+            raise ValueError("omega_rad_per_m must be positive, finite and strictly increasing")
+        for name in IRREGULARITY_COMPONENTS:
+            values = getattr(self, name)
+            if values is None:
+                continue
+            if len(values) != len(om):
+                raise ValueError(f"{name} has {len(values)} values for {len(om)} frequencies")
+            if not all(math.isfinite(v) and v >= 0.0 for v in values):
+                raise ValueError(f"{name}: spectrum values must be finite and >= 0")
+        if not self.components():
+            raise ValueError("give the spectrum of at least one component")
+        return self
+
+    def components(self) -> tuple[str, ...]:
+        """Components the table gives."""
+        return tuple(c for c in IRREGULARITY_COMPONENTS if getattr(self, c) is not None)
 
 Rails = Literal["both", "left", "right"]
 """Which rail a local (vertical) defect is on."""
@@ -67,8 +122,11 @@ class RandomIrregularity(Schema):
 
     kind: Literal["random"] = "random"
     spectrum: SpectrumName = Field(
-        "german-high", description="Track spectrum: German high or low disturbance (-)"
+        "german-high", description="Track spectrum: German high or low disturbance, or "
+        "'table' (the user's spectra in 'table') (-)"
     )
+    table: SpectrumTable | None = Field(
+        None, description="The spectra when spectrum is 'table' (S(Ω) per component)")
     components: list[Component] = Field(
         default_factory=lambda: list(IRREGULARITY_COMPONENTS),
         min_length=1,
@@ -100,6 +158,17 @@ class RandomIrregularity(Schema):
                 f"wavelength_max_m ({self.wavelength_max_m} m) must exceed "
                 f"wavelength_min_m ({self.wavelength_min_m} m)"
             )
+        return self
+
+    @model_validator(mode="after")
+    def _table_given(self) -> Self:
+        if (self.spectrum == "table") != (self.table is not None):
+            raise ValueError("give 'table' exactly when spectrum is 'table'")
+        if self.table is not None:
+            missing = [c for c in self.components if c not in self.table.components()]
+            if missing:
+                raise ValueError(f"the table has no spectrum of {', '.join(missing)} "
+                                 "(components asks for it)")
         return self
 
 

@@ -183,6 +183,7 @@ def build_profile(
                 ds=ds,
                 half_gauge=half_gauge,
                 scale=exc.scale,
+                table=exc.table,
             )
         elif isinstance(exc, Corrugation):
             part = corrugation_profile(

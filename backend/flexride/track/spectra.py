@@ -60,7 +60,7 @@ import numpy as np
 from scipy import fft as sp_fft
 
 from flexride.errors import ScenarioError
-from flexride.scenario.excitation import IRREGULARITY_COMPONENTS
+from flexride.scenario.excitation import IRREGULARITY_COMPONENTS, SpectrumTable
 from flexride.track.profile import (
     POINTS_PER_WAVELENGTH,
     IrregularityProfile,
@@ -102,6 +102,7 @@ RANDOM_FADE_IN_M = 20.0
 does not begin with a step."""
 _MIN_PERIODS = 8  # synthesis period ≥ 8·λ_max: ≥ 8 Fourier lines per Ω_min
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(5)
+_TINY_PSD = 1e-300  # a table's zero, on the log scale of its interpolation
 
 
 def _level_key(level: str) -> str:
@@ -164,6 +165,50 @@ def german_psd(
         f"unknown irregularity component {component!r}; expected one of "
         f"{', '.join(IRREGULARITY_COMPONENTS)}"
     )
+
+
+def table_psd(omega: np.ndarray | float, table: SpectrumTable, component: str) -> np.ndarray:
+    """A user's tabulated spectrum (:class:`~flexride.scenario.excitation.SpectrumTable`) at Ω.
+
+    Parameters
+    ----------
+    omega : array_like
+        Spatial angular frequency Ω ≥ 0 (rad/m).
+    table : SpectrumTable
+        The table.
+    component : str
+        Irregularity component.
+
+    Returns
+    -------
+    numpy.ndarray
+        S(Ω), log–log interpolated between the table's points, zero outside them and for a
+        component the table does not give; units as :func:`german_psd`.
+    """
+    om = np.asarray(omega, dtype=float)
+    values = getattr(table, component, None)
+    if values is None:
+        return np.zeros_like(om)
+    knots = np.asarray(table.omega_rad_per_m, dtype=float)
+    logs = np.log(np.maximum(np.asarray(values, dtype=float), _TINY_PSD))
+    inside = (om >= knots[0]) & (om <= knots[-1])
+    log_om = np.log(np.clip(om, knots[0], knots[-1]))
+    out = np.exp(np.interp(log_om, np.log(knots), logs))
+    return np.where(inside & (out > _TINY_PSD), out, 0.0)
+
+
+def component_psd(spectrum: str, component: str, half_gauge: float = GERMAN_HALF_GAUGE,
+                  table: SpectrumTable | None = None) -> Callable[[np.ndarray], np.ndarray]:
+    """S(Ω) of one component of a random irregularity's spectrum, as a function of Ω:
+    the German spectra by level, or the user's ``table`` when ``spectrum`` is ``"table"``.
+    The one place the generator and the frequency-domain estimate take spectra from.
+    """
+    if spectrum == "table":
+        if table is None:
+            raise ScenarioError("spectrum 'table' needs its table")
+        return partial(table_psd, table=table, component=component)
+    return partial(german_psd, component=component, level=_level_key(spectrum),
+                   half_gauge=half_gauge)
 
 
 def band_rms(
@@ -278,15 +323,17 @@ def random_profile(
     half_gauge: float = GERMAN_HALF_GAUGE,
     scale: float = 1.0,
     fade_in_m: float = RANDOM_FADE_IN_M,
+    table: SpectrumTable | None = None,
 ) -> IrregularityProfile:
-    """Random track irregularity from the German spectra (stationary Gaussian synthesis).
+    """Random track irregularity from the German spectra or a user's table (stationary
+    Gaussian synthesis).
 
     Parameters
     ----------
     length_m : float
         Route length to cover (m); the grid runs from 0 to at least ``length_m``.
-    spectrum_level : {"high", "low", "german-high", "german-low"}
-        Disturbance level of the German spectra.
+    spectrum_level : {"high", "low", "german-high", "german-low", "table"}
+        Disturbance level of the German spectra, or ``"table"`` for ``table``.
     components : sequence of {"vertical", "alignment", "cross_level", "gauge"}
         Components to generate; the others are zero.
     wavelength_min_m, wavelength_max_m : float
@@ -305,6 +352,8 @@ def random_profile(
     fade_in_m : float
         Length of the raised-cosine fade-in from s = 0 (m), :func:`fade_in_weight`; 0 gives the
         stationary realisation from the first point on.
+    table : SpectrumTable, optional
+        The user's spectra (:func:`table_psd`) when ``spectrum_level`` is ``"table"``.
 
     Returns
     -------
@@ -318,7 +367,7 @@ def random_profile(
     Cost is one real inverse FFT of the synthesis length per component: a 5 km profile at a
     0.025 m step takes a few tens of milliseconds.
     """
-    key = _level_key(spectrum_level)
+    psd_of = partial(component_psd, spectrum_level, half_gauge=half_gauge, table=table)
     comps = list(components)
     _check_random_args(comps, wavelength_min_m, wavelength_max_m, seed, half_gauge, fade_in_m)
     if ds is None:
@@ -333,8 +382,8 @@ def random_profile(
         if comp not in comps:
             series[comp] = np.zeros(n)
             continue
-        psd = partial(german_psd, component=comp, level=key, half_gauge=half_gauge)
-        series[comp] = _component_series(grid, n, psd, scale, np.random.default_rng(children[idx]))
+        series[comp] = _component_series(grid, n, psd_of(comp), scale,
+                                         np.random.default_rng(children[idx]))
 
     b = half_gauge
     zv, ya = series["vertical"], series["alignment"]
