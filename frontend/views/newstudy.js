@@ -90,6 +90,8 @@ export default async function render(main, ctx) {
   const seedsErr = h("div", { class: "field-error", id: "study-seeds-err" });
   const section = h("select", { id: "study-section", "aria-describedby": "study-section-help" },
     [["paper", "the paper report's sections (the arc of a curve)"], ["curve", "the whole curve, transitions included"], ["run", "the whole run"]].map(([v, t]) => h("option", { value: v }, t)));
+  const cutoff = h("select", { id: "study-cutoff", "aria-describedby": "study-cutoff-help" },
+    [["follow", "follow the excitation (at least 1.5 × V/λ_min)"], ["as_given", "as the base scenario gives it"]].map(([v, t]) => h("option", { value: v }, t)));
   const duration = h("input", { id: "study-duration", type: "text", inputmode: "decimal", value: "", placeholder: "as in the scenario", "aria-describedby": "study-duration-help study-duration-err", autocomplete: "off" });
   const durationErr = h("div", { class: "field-error", id: "study-duration-err" });
   const extra = h("textarea", { id: "study-overrides", rows: 3, class: "mono", placeholder: "solver.dt: 5.0e-5\nvehicle.carbody.mass: 38000", "aria-describedby": "study-overrides-help study-overrides-err" });
@@ -182,6 +184,7 @@ export default async function render(main, ctx) {
       problems.push(["study-seeds", "Realisations out of range"]);
     } else if (ns > 1) req.seeds = ns;
     if (section.value !== "paper") req.section = section.value;
+    if (cutoff.value !== "follow") req.cutoff = cutoff.value;
     const overrides = {};
     durationErr.textContent = "";
     duration.removeAttribute("aria-invalid");
@@ -250,6 +253,7 @@ export default async function render(main, ctx) {
     for (const pa of r.parameters || []) addParam(pa.path, pa.values.join(", "));
     seeds.value = String(r.seeds || 1);
     section.value = r.section || "paper";
+    cutoff.value = r.cutoff || "follow";
     update();
   }
 
@@ -334,6 +338,8 @@ export default async function render(main, ctx) {
       h("p", { class: "help", id: "study-duration-help" }, "Sets duration_s (and clears distance_m) – a few seconds for a quick look; Sperling indices need at least 5 s."), durationErr,
       h("label", { for: "study-section" }, "Evaluated section of each run", section),
       h("p", { class: "help", id: "study-section-help" }, "Where the indices are taken: the paper report's rules (on a curve every wheelset on the circular arc; on straight track with an excitation from 30 m on, after the random profile's fade-in; a settlement over the whole run), the whole curve, or the whole run. A section shorter than 6 s of the run falls back to the whole run; the study page lists each job's section."),
+      h("label", { for: "study-cutoff" }, "Elastic modes of flexible bodies", cutoff),
+      h("p", { class: "help", id: "study-cutoff-help" }, "Follow the excitation: each condition's flexible car body and frames keep their modes up to at least 1.5 × its highest excitation frequency V/λ_min, rounded up to 10 Hz (70 Hz for 0.5 m corrugation up to 80 km/h), as the paper report does. As given: the base scenario's cut-off; a job that keeps fewer modes than its excitation drives says so in its notes."),
       h("label", { for: "study-overrides" }, "Other overrides (YAML: dotted.path: value)", extra),
       h("p", { class: "help", id: "study-overrides-help" }, "Applied last to every job."), extraErr,
       h("label", { class: "check" }, reuse, "Reuse stored results of identical scenarios"))),

@@ -12,6 +12,7 @@ tests/frontend/conftest.py):
 
 from __future__ import annotations
 
+import json
 import re
 from typing import Any
 
@@ -115,3 +116,34 @@ def test_new_study_form_takes_seeds_section_and_offers_the_report(page, server):
     # the paper report: quick or full, its runs fixed by the plan
     assert page.locator("#run-report-quick").inner_text() == "Run quick report"
     assert "96 jobs" in page.locator("#run-report-full").inner_text()  # 16 + 16 · 5 seeds
+
+
+def test_the_cut_off_choice_reaches_the_study(page, server):
+    """'As given' in the form is the request's cutoff (the default, 'follow', is left out).
+    The request is answered here with a refusal, so that no flexible study is run; its body is
+    read in the page (Firefox's interception does not give it)."""
+    page.console_log.allow(r"status of 422")  # the stand-in answer below
+    page.route("**/api/v1/studies", lambda route: route.fulfill(
+        status=422, content_type="application/json", body=json.dumps(
+            {"detail": [{"loc": ["body", "name"], "msg": "stopped by the test", "type": "x"}],
+             "message": "stopped by the test"}))
+        if route.request.method == "POST" else route.continue_())
+    page.goto("/#/studies/new")
+    page.evaluate("""() => {
+        const f = window.fetch; window.__studyBodies = [];
+        window.fetch = (u, o) => {
+            if (String(u).endsWith('/api/v1/studies') && o && o.method === 'POST')
+                window.__studyBodies.push(JSON.parse(o.body));
+            return f(u, o);
+        };
+    }""")
+    page.get_by_role("button", name="Fill the form with paper-table3", exact=True).click()
+    assert page.locator("#study-cutoff").input_value() == "follow"
+    page.click("#submit-study")
+    page.wait_for_function("() => window.__studyBodies.length === 1")
+    page.select_option("#study-cutoff", "as_given")
+    page.click("#submit-study")
+    page.wait_for_function("() => window.__studyBodies.length === 2")
+    first, second = page.evaluate("() => window.__studyBodies")
+    assert first["body_models"] == ["flexible"] and "cutoff" not in first
+    assert second["cutoff"] == "as_given"
