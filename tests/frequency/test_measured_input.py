@@ -18,16 +18,22 @@ B = GERMAN_HALF_GAUGE
 COMPONENTS = ("vertical", "alignment", "cross_level", "gauge")
 
 
+def write_record(path, length_m: float, wavelength_max_m: float, seed: int):
+    """A German high realisation (1 m … ``wavelength_max_m``, 0.25 m spacing, no fade-in)
+    written as a per-rail measured CSV at ``path`` (m)."""
+    prof = random_profile(length_m, "high", COMPONENTS, 1.0, wavelength_max_m, seed=seed,
+                          ds=0.25, fade_in_m=0.0)
+    s = prof.s0 + prof.ds * np.arange(prof.z_left.size)
+    np.savetxt(path, np.column_stack([s, prof.z_left, prof.z_right, prof.y_left, prof.y_right]),
+               delimiter=",", header="distance_m,z_left,z_right,y_left,y_right", comments="",
+               fmt="%.9e")
+    return path
+
+
 @pytest.fixture(scope="module")
 def record(tmp_path_factory):
-    """4 km of German high irregularity, 1–80 m, as a per-rail CSV (m)."""
-    prof = random_profile(4000.0, "high", COMPONENTS, 1.0, 80.0, seed=3, ds=0.25,
-                          fade_in_m=0.0)
-    s = prof.s0 + prof.ds * np.arange(prof.z_left.size)
-    path = tmp_path_factory.mktemp("measured") / "record.csv"
-    data = np.column_stack([s, prof.z_left, prof.z_right, prof.y_left, prof.y_right])
-    np.savetxt(path, data, delimiter=",", header="distance_m,z_left,z_right,y_left,y_right",
-               comments="", fmt="%.9e")
+    """The spectra of 4 km of German high irregularity, 1–80 m, read from a per-rail CSV."""
+    path = write_record(tmp_path_factory.mktemp("measured") / "record.csv", 4000.0, 80.0, 3)
     return measured_input(MeasuredIrregularity(path=str(path)), B)
 
 
@@ -66,14 +72,8 @@ def test_a_short_record_has_no_spectrum(tmp_path):
 @pytest.fixture(scope="module")
 def long_record_csv(tmp_path_factory):
     """6 km of the preset's irregularity (German high, 1–120 m, seed 1) as a per-rail CSV."""
-    prof = random_profile(6000.0, "high", COMPONENTS, 1.0, 120.0, seed=1, ds=0.25,
-                          fade_in_m=0.0)
-    s = prof.s0 + prof.ds * np.arange(prof.z_left.size)
-    path = tmp_path_factory.mktemp("measured-long") / "record.csv"
-    np.savetxt(path, np.column_stack([s, prof.z_left, prof.z_right, prof.y_left, prof.y_right]),
-               delimiter=",", header="distance_m,z_left,z_right,y_left,y_right", comments="",
-               fmt="%.9e")
-    return path
+    return write_record(tmp_path_factory.mktemp("measured-long") / "record.csv", 6000.0,
+                        120.0, 1)
 
 
 @pytest.mark.slow
