@@ -14,13 +14,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from typing import Any
+from typing import Any, Literal
 
 from flexride.scenario.scenario import Scenario
 
-__all__ = ["BODY_PARTS", "CUTOFF_FACTOR", "CUTOFF_STEP_HZ", "cutoff_notes",
-           "excitation_frequency_hz", "shortest_wavelength", "sufficient_cutoff_hz",
-           "with_sufficient_cutoff"]
+__all__ = ["BODY_PARTS", "CUTOFF_FACTOR", "CUTOFF_STEP_HZ", "DEFAULT_CUTOFF_RULE",
+           "CutoffRule", "cutoff_notes", "excitation_frequency_hz", "required_cutoffs",
+           "shortest_wavelength", "sufficient_cutoff_hz", "with_cutoffs"]
+
+CutoffRule = Literal["follow", "as_given"]
+"""What a study does with its flexible bodies' cut-off: raise it to the rule, or keep it."""
+DEFAULT_CUTOFF_RULE: CutoffRule = "follow"
 
 BODY_PARTS = ("carbody", "frames")
 """The scenario's body-model entries that can be flexible."""
@@ -58,37 +62,41 @@ def sufficient_cutoff_hz(f_excitation_hz: float, base_hz: float) -> float:
     return max(base_hz, math.ceil(CUTOFF_FACTOR * f_excitation_hz / step) * step)
 
 
+def required_cutoffs(scenario: Scenario) -> dict[str, float]:
+    """The cut-off (Hz) each flexible body (``carbody``, ``frames``) needs by the rule, for
+    those that keep less; empty when every body keeps what its excitation drives.
+    """
+    f_exc = excitation_frequency_hz(scenario)
+    if f_exc is None:
+        return {}
+    need = {}
+    for part in BODY_PARTS:
+        body = getattr(scenario.bodies, part)
+        hz = sufficient_cutoff_hz(f_exc, body.cutoff_hz)
+        if body.model == "flexible" and hz > body.cutoff_hz:
+            need[part] = hz
+    return need
+
+
+def with_cutoffs(scenario: Scenario, cutoffs: Mapping[str, float]) -> Scenario:
+    """``scenario`` with the flexible bodies of ``cutoffs`` (part → Hz) keeping modes up to
+    at least that frequency (a body already keeping more is unchanged).
+    """
+    bodies = scenario.bodies
+    for part, hz in cutoffs.items():
+        body = getattr(bodies, part)
+        if body.model == "flexible" and hz > body.cutoff_hz:
+            bodies = bodies.model_copy(update={part: body.model_copy(update={"cutoff_hz": hz})})
+    return scenario.model_copy(update={"bodies": bodies})
+
+
 def cutoff_notes(scenario: Scenario) -> list[str]:
     """One line per flexible body (car body, frames) whose cut-off is below the rule, naming
     the excitation frequency and the field's value that would do; empty when all keep it.
     """
     f_exc = excitation_frequency_hz(scenario)
-    if f_exc is None:
-        return []
-    notes = []
-    for part in BODY_PARTS:
-        body = getattr(scenario.bodies, part)
-        need = sufficient_cutoff_hz(f_exc, body.cutoff_hz)
-        if body.model == "flexible" and need > body.cutoff_hz:
-            notes.append(
-                f"bodies.{part}.cutoff_hz = {body.cutoff_hz:g} Hz keeps fewer elastic modes "
-                f"than the excitation drives: its highest frequency is {f_exc:.1f} Hz "
-                f"(V/λ_min at {scenario.speed_kmh:g} km/h), and {CUTOFF_FACTOR:g} times that "
-                f"needs bodies.{part}.cutoff_hz ≥ {need:g} Hz")
-    return notes
-
-
-def with_sufficient_cutoff(scenario: Scenario) -> Scenario:
-    """``scenario`` with every flexible body's cut-off raised to the rule where it is below
-    (unchanged otherwise): what a study does by default (``cutoff: follow``).
-    """
-    f_exc = excitation_frequency_hz(scenario)
-    if f_exc is None:
-        return scenario
-    bodies = scenario.bodies
-    for part in BODY_PARTS:
-        body = getattr(bodies, part)
-        need = sufficient_cutoff_hz(f_exc, body.cutoff_hz)
-        if body.model == "flexible" and need > body.cutoff_hz:
-            bodies = bodies.model_copy(update={part: body.model_copy(update={"cutoff_hz": need})})
-    return scenario.model_copy(update={"bodies": bodies})
+    return [f"bodies.{part}.cutoff_hz = {getattr(scenario.bodies, part).cutoff_hz:g} Hz keeps "
+            f"fewer elastic modes than the excitation drives: its highest frequency is "
+            f"{f_exc:.1f} Hz (V/λ_min at {scenario.speed_kmh:g} km/h), and {CUTOFF_FACTOR:g} "
+            f"times that needs bodies.{part}.cutoff_hz ≥ {hz:g} Hz"
+            for part, hz in required_cutoffs(scenario).items()]

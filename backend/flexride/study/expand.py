@@ -8,7 +8,7 @@ dotted-path values), ``speeds_kmh``, ``body_models`` (rigid/flexible car body an
 seeds; a job without a random irregularity has one realisation only. Each job is evaluated
 over the section of its ``section`` rule (:mod:`flexride.study.sections`). A flexible body
 keeps the modes its job's excitation drives (``cutoff: follow``, the default:
-:func:`flexride.scenario.fidelity.with_sufficient_cutoff`; ``as_given`` keeps the scenario's).
+:func:`flexride.scenario.fidelity.required_cutoffs`; ``as_given`` keeps the scenario's).
 """
 
 from __future__ import annotations
@@ -18,12 +18,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from flexride.errors import ScenarioError
-from flexride.scenario.fidelity import BODY_PARTS, with_sufficient_cutoff
+from flexride.scenario.fidelity import DEFAULT_CUTOFF_RULE, required_cutoffs, with_cutoffs
 from flexride.scenario.loading import safe_overrides
 from flexride.scenario.presets import PAPER_CONDITIONS, preset_dict
 from flexride.scenario.scenario import Scenario, resolve_preset_base, scenario_from_dict
 from flexride.study.presets import study_preset
-from flexride.study.sections import job_section
+from flexride.study.sections import DEFAULT_SECTION_RULE, job_section
 from flexride.study.seeds import SEED_AXIS, is_random, realisations, seed_overrides
 
 
@@ -206,32 +206,26 @@ def expand_study(request: dict[str, Any], max_jobs: int) -> StudyPlan:
         data = {**data, "name": job_name}
         where = ", ".join(f"{k}={_label(v)}" for k, v in labels.items()) or "base"
         scenario = scenario_from_dict(data, source=f"study job {index} ({where})")
+        section = job_section(scenario, req.get("section") or DEFAULT_SECTION_RULE)
         plan.jobs.append(PlannedJob(index=index, name=job_name, axes=labels, scenario=scenario,
-                                    section=job_section(scenario, req.get("section") or "paper")))
-    if req.get("cutoff", "follow") == "follow":
+                                    section=section))
+    if req.get("cutoff", DEFAULT_CUTOFF_RULE) == "follow":
         _follow_excitation(plan.jobs)
     return plan
 
 
 def _follow_excitation(jobs: list[PlannedJob]) -> None:
     """Raise each flexible body's cut-off to the rule of its excitation
-    (:func:`~flexride.scenario.fidelity.with_sufficient_cutoff`), one value per condition: the
+    (:func:`~flexride.scenario.fidelity.required_cutoffs`), one value per condition: the
     highest its jobs need, so that a condition's jobs share one FE reduction.
     """
-    need: dict[tuple[Any, str], float] = {}
+    need: dict[Any, dict[str, float]] = {}
     for job in jobs:
-        raised = with_sufficient_cutoff(job.scenario).bodies
-        for part in BODY_PARTS:
-            key = (job.axes.get("condition"), part)
-            need[key] = max(need.get(key, 0.0), getattr(raised, part).cutoff_hz)
+        cond = need.setdefault(job.axes.get("condition"), {})
+        for part, hz in required_cutoffs(job.scenario).items():
+            cond[part] = max(cond.get(part, 0.0), hz)
     for job in jobs:
-        bodies = job.scenario.bodies
-        for part in BODY_PARTS:
-            body = getattr(bodies, part)
-            hz = need[(job.axes.get("condition"), part)]
-            if body.model == "flexible" and hz > body.cutoff_hz:
-                bodies = bodies.model_copy(update={part: body.model_copy(update={"cutoff_hz": hz})})
-        job.scenario = job.scenario.model_copy(update={"bodies": bodies})
+        job.scenario = with_cutoffs(job.scenario, need[job.axes.get("condition")])
 
 
 def _job_data(base: dict[str, Any], combo: tuple[Level, ...], labels: dict[str, Any],

@@ -45,7 +45,7 @@ REPORTS_DIR = "reports"
 REPORT_FILES = ("index.html", "summary.json")
 """The files the API serves (``report.json`` lies beside them)."""
 _FIXED = ("base", "conditions", "speeds_kmh", "body_models", "parameters", "overrides",
-          "section")
+          "section", "cutoff")
 
 
 def report_key(study_id: str) -> str:

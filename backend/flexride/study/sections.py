@@ -14,16 +14,16 @@ from typing import Any, Literal
 
 from flexride.scenario.scenario import Scenario
 
-__all__ = ["SECTION_RULES", "SectionRule", "job_section"]
+__all__ = ["DEFAULT_SECTION_RULE", "SectionRule", "job_section"]
 
 SectionRule = Literal["paper", "curve", "run"]
-SECTION_RULES: tuple[str, ...] = ("paper", "curve", "run")
 """``paper``: the report's sections (the arc on a curve); ``curve``: the same but the whole
 curve with its transitions; ``run``: the whole run."""
+DEFAULT_SECTION_RULE: SectionRule = "paper"
 
 
 
-def job_section(scenario: Scenario, rule: str = "paper") -> dict[str, Any] | None:
+def job_section(scenario: Scenario, rule: str = DEFAULT_SECTION_RULE) -> dict[str, Any] | None:
     """The section of one job, or None for the whole run.
 
     Returns
