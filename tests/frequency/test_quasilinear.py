@@ -125,6 +125,35 @@ def test_profiles_quasi_linear_contact_is_stiffer_laterally(profiles):
         pc["local"].directions["z"].rms, rel=0.01)
 
 
+def test_gains_are_continuous_across_a_rung_of_the_sampling_ladder(profiles):
+    """Just below and just above a rung the blended gains differ by O(ε) (they jump with the
+    nearest rung alone); at a rung they are the rung's own Gauss–Hermite sums."""
+    lin = profiles["local"].linearisation
+    samples = ql.PathSamples()
+    rung = ql.rung_sigma(ql.ladder(1.7e-3)[0])
+    eps = 1e-6
+    below, at, above = (samples.gains(lin, 0, 0, rung * (1.0 + d)) for d in (-eps, 0.0, eps))
+    scale = np.abs(at[0]).max()
+    assert np.abs(below[0] - above[0]).max() <= 1e-4 * scale
+    own = ql.sample_wheel(lin, 0, 0, rung)
+    h, c = ql.hermite_differences(rung)
+    np.testing.assert_allclose(own.steps, h, rtol=1e-12)
+    np.testing.assert_allclose(at[0], c @ own.diff_acc, rtol=1e-9, atol=1e-9 * scale)
+
+
+def test_iteration_converges_near_the_stability_limit():
+    """A soft primary lateral suspension (100 kN/m per axle box at 80 km/h, just above the
+    hunting limit of the quasi-linear model) makes g(σ) fall steeply: the secant relaxation
+    converges where a fixed one cycled (σ changing by 40–100 % after 8 iterations), and the
+    σ the gains were made at is the response's own."""
+    model = linear_model(preset("paper-random-straight-80", vehicle__primary__ky=1.0e5))
+    q = model.quasi_linear
+    assert q.converged and q.history[-1] < ql.SIGMA_RTOL
+    sigma = ql.wheel_sigma(*_wheel_variance(model), 4)
+    used = np.array(list(q.sigma.values())).reshape(4, 2)
+    np.testing.assert_allclose(sigma, used, rtol=ql.SIGMA_RTOL)
+
+
 def test_no_convergence_is_refused_or_flagged(monkeypatch):
     monkeypatch.setattr(ql, "MAX_ITERATIONS", 1)
     sc = preset("paper-random-straight-80")

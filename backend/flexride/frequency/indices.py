@@ -25,6 +25,7 @@ Gaussian response.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -38,7 +39,7 @@ from flexride.analysis.weighting import weighting_response
 __all__ = ["dynamic_part_gain", "expected_peak", "nmv_block_p95", "sperling_filter_from_psd",
            "sperling_spectral_from_psd", "weighted_rms"]
 
-#: step of the uniform grid the Fejér kernel is applied on (Hz)
+#: largest step of the uniform grid the window's kernel is applied on (Hz)
 FINE_DF = 0.01
 _EULER = 0.5772156649
 
@@ -78,30 +79,91 @@ def sperling_spectral_from_psd(f: np.ndarray, psd: np.ndarray, direction: str,
     segment_s : float
         Segment length of the time-domain definition (s).
     """
-    fl, fine, kernel = _line_kernel(float(f[-1]), float(segment_s))
+    lk = _line_kernel(float(f[-1]), float(segment_s))
     g = np.atleast_2d(psd) * dynamic_part_gain(f)
     logg = np.log(np.maximum(g, 1e-300))
-    gf = np.exp(np.array([np.interp(fine, f, row, left=-690.0, right=-690.0) for row in logg]))
-    power = FINE_DF * gf @ kernel.T  # (rows, lines): expected mean square per line, (m/s²)²
+    gf = np.exp(np.array([np.interp(lk.fine, f, row, left=-690.0, right=-690.0)
+                          for row in logg]))
+    power = lk.line_power(gf)  # (rows, lines): expected mean square per line, (m/s²)²
     d = "vertical" if direction == "z" else "lateral"
-    return np.array([index_of_spectrum(row, fl, d) for row in power])
+    return np.array([index_of_spectrum(row, lk.lines, d) for row in power])
+
+
+#: Lines on either side of a line whose spectrum enters its expected power: the pinned Hann
+#: window's gain 64 lines from its centre is below 2e-12 of the centre's (it falls as ν⁻⁶).
+KERNEL_HALF_LINES = 64
+
+
+@dataclasses.dataclass(frozen=True)
+class _LineKernel:
+    """The lines the spectral form looks at, a uniform fine grid that has every line on it,
+    and the window's spectral kernel on that grid, split into its polyphase blocks.
+
+    Attributes
+    ----------
+    lines : numpy.ndarray
+        (n_lines,) line frequencies k/T (Hz).
+    fine : numpy.ndarray
+        (n,) the grid j·δ, j = 1 … n (Hz), δ = 1/(s·T) ≤ :data:`FINE_DF` (s steps per line).
+    per_line : int
+        s.
+    blocks : numpy.ndarray
+        (2Q, s) the kernel at offsets q + p/s lines, q = −Q … Q − 1 (Q =
+        :data:`KERNEL_HALF_LINES`), p = 0 … s − 1.
+    step : float
+        δ (Hz).
+    """
+
+    lines: np.ndarray
+    fine: np.ndarray
+    per_line: int
+    blocks: np.ndarray
+    step: float
+
+    def line_power(self, gf: np.ndarray) -> np.ndarray:
+        """Expected mean square of every line, δ·Σ_j G(f_j)·K(f_j − f_i) over the kernel's
+        ±Q lines, for every row of ``gf`` ((rows, n) PSD on :attr:`fine`, (m/s²)²/Hz) →
+        (rows, n_lines) ((m/s²)²).
+
+        The lines lie every s grid steps, so the sum is polyphase: with the PSD cut into
+        blocks of s steps, line i is Σ_q (block i + q)·(kernel block q), the diagonal sums of
+        one matrix product. Every term is positive: each line is accurate relative to its own
+        size (a weak line beside a strong peak too, which decides how the index merges
+        lines into peaks), as the sum over the dense kernel matrix is.
+        """
+        s, q2 = self.per_line, self.blocks.shape[0]
+        rows, n = gf.shape
+        n_lines = self.lines.size
+        pad = q2 // 2 * s
+        u = np.zeros((rows, (n + 2 * pad) // s + 1, s))
+        flat = u.reshape(rows, -1)
+        flat[:, pad - (s - 1):pad - (s - 1) + n] = gf  # line i's centre starts block Q + i
+        # (rows, blocks, 2Q): block b against kernel block q
+        d = (u.reshape(-1, s) @ self.blocks.T).reshape(rows, -1, q2)
+        diag = np.lib.stride_tricks.as_strided(
+            d, (rows, n_lines, q2), (d.strides[0], d.strides[1], d.strides[1] + d.strides[2]),
+            writeable=False)
+        return self.step * diag.sum(axis=-1)
 
 
 @functools.lru_cache(maxsize=8)
-def _line_kernel(f_max: float, segment_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The lines the spectral form looks at (Hz), the uniform fine grid up to ``f_max`` (Hz)
-    and the spectral window between them (lines × grid, -): a line's expected mean square
-    is ∫G(f)·K(f − f_i) df, K = |Ŵ((f − f_i)T)|²/(N Σw²) of the pinned window (∫K df = 1/T).
+def _line_kernel(f_max: float, segment_s: float) -> _LineKernel:
+    """The lines, fine grid and kernel of the spectral form up to ``f_max`` (Hz) for segments
+    of ``segment_s`` (s): a line's expected mean square is ∫G(f)·K(f − f_i) df,
+    K = |Ŵ((f − f_i)T)|²/(N Σw²) of the pinned window (∫K df = 1/T).
     """
     hi = SPERLING_DEFAULTS["band_hz"][1]
     n_lines = math.floor(hi * segment_s + 1e-9) + PEAK_HALF_WIDTH + 1
-    fl = np.arange(1, n_lines + 1) / segment_s
-    fine = np.arange(FINE_DF, f_max, FINE_DF)
-    offsets = (fine[None, :] - fl[:, None]) * segment_s  # in lines
-    kernel = _window_gain(offsets)
-    for a in (fl, fine, kernel):
+    per_line = max(1, math.ceil(1.0 / (segment_s * FINE_DF) - 1e-9))  # grid steps per line
+    step = 1.0 / (segment_s * per_line)
+    n = max(math.ceil(f_max / step - 1e-9) - 1, per_line * n_lines)
+    q = np.arange(-KERNEL_HALF_LINES, KERNEL_HALF_LINES)
+    blocks = _window_gain(q[:, None] + np.arange(per_line)[None, :] / per_line)
+    lines = np.arange(1, n_lines + 1) / segment_s
+    fine = np.arange(1, n + 1) * step
+    for a in (lines, fine, blocks):
         a.setflags(write=False)
-    return fl, fine, kernel
+    return _LineKernel(lines, fine, per_line, blocks, step)
 
 
 def _window_gain(offset: np.ndarray, n: int = 4096, pad: int = 32) -> np.ndarray:

@@ -163,6 +163,10 @@ class LinearModel:
         How the contact was linearised (:mod:`flexride.frequency.quasilinear`); with the
         statistical linearisation ``linearisation`` is still the local one (what sweeps reuse)
         and ``quasi_linear.linearisation`` the one ``system`` was reduced from.
+    modal_inputs : dict
+        Modal coordinates per unit irregularity already computed
+        (:func:`~flexride.frequency.response.modal_input`), by grid and rail maps: a model's
+        response is asked for more than once (the quasi-linear iteration's σ, the comfort).
     """
 
     scenario: Scenario
@@ -184,6 +188,8 @@ class LinearModel:
     linearisation: Linearisation | None = field(default=None, repr=False, compare=False)
     reduced: Reduced | None = field(default=None, repr=False, compare=False)
     quasi_linear: Any = field(default=None, repr=False, compare=False)
+    modal_inputs: dict[tuple[bytes, bytes], tuple[Any, np.ndarray]] = field(
+        default_factory=dict, repr=False, compare=False)
 
     @property
     def duration(self) -> float:

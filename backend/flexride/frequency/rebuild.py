@@ -1,8 +1,8 @@
 """Linear models of a parameter sweep, each made reusing what it shares with the previous one.
 
-Every reuse is exact — the model equals the one :func:`~flexride.frequency.model.linear_model`
-builds from scratch, to rounding (the tests compare the comfort indices within 1e-9
-relative):
+Every reuse below is exact — the model equals the one
+:func:`~flexride.frequency.model.linear_model` builds from scratch, to rounding (the tests
+compare the comfort indices within 1e-9 relative):
 
 * **Contact tables** (the conical table or the profiles' table, 40 ms each) are kept by the
   inputs they are made from (:func:`~flexride.solver.assemble.contact_key`); the rest of the
@@ -21,6 +21,11 @@ relative):
   (speed, contact, track, geometry) gets all Jacobians.
 * **Track condensation**: reused when the rail rows and columns of the full system are equal
   to the previous ones (:meth:`~flexride.frequency.reduce.Condensation.fits`).
+
+One reuse is not exact: with the statistical linearisation of profile contact the σ iteration
+starts from the previous value's σ (and keeps its path samples while the contact's state and
+the wheelsets' rows and columns are unchanged), so a value agrees with its rebuild within the
+iteration's tolerance (:data:`~flexride.frequency.quasilinear.SIGMA_RTOL`), not to rounding.
 """
 
 from __future__ import annotations
@@ -47,7 +52,7 @@ from flexride.frequency.model import (
     spectra_or_flag,
 )
 from flexride.frequency.operating_point import OperatingPoint, WarmStart, warm_start
-from flexride.frequency.quasilinear import check_linearisation, with_linearisation
+from flexride.frequency.quasilinear import QuasiLinear, check_linearisation, with_linearisation
 from flexride.frequency.reduce import TrackModel
 from flexride.scenario.scenario import Scenario
 from flexride.solver import assemble as A
@@ -188,6 +193,8 @@ class ModelRebuilder:
     _contacts: dict[str, Any] = field(default_factory=dict, repr=False)
     _previous: LinearModel | None = field(default=None, repr=False)
     _warm: WarmStart | None = field(default=None, repr=False)
+    _quasi: QuasiLinear | None = field(default=None, repr=False)
+    _samples_hold: bool = field(default=False, repr=False)
 
     def __post_init__(self) -> None:
         """Refuse an unknown track model or linearisation at once."""
@@ -219,7 +226,13 @@ class ModelRebuilder:
                 and prev_red.condensation is not None):
             self.stats["condensation_reused"] += 1
         self._remember(model, op)
-        return with_linearisation(model, self.linearisation, self.strict)
+        start = self._quasi.start(self._samples_hold) if self._quasi is not None else None
+        model = with_linearisation(model, self.linearisation, self.strict, start)
+        if model.quasi_linear is not None and model.quasi_linear.applied:
+            self._quasi = model.quasi_linear
+            self.stats["quasi_linear_warm" if start is not None else "quasi_linear_cold"] += 1
+            self.stats["quasi_linear_iterations"] += model.quasi_linear.iterations
+        return model
 
     def _assemble(self, scenario: Scenario, vehicle: VehicleModel | None) -> A.Assembly:
         """The assembly, with the contact tables kept between values."""
@@ -238,6 +251,9 @@ class ModelRebuilder:
         if prev is not None and idx is not None:
             lin = _element_update(prev, op, idx) if idx.size else _reusing(prev, op, prev.full)
         self.stats["jacobians_partial" if lin is not None else "jacobians_full"] += 1
+        # the contact's path samples depend on the contact and the wheelsets' rows and columns
+        self._samples_hold = lin is not None and idx is not None and not np.intersect1d(
+            idx, _body_coordinates(op.sys, op.sys.ws_body)).size
         return lin if lin is not None else linearise(op)
 
     @staticmethod

@@ -26,6 +26,8 @@ mass-normalised system of the kept coordinates.
 
 from __future__ import annotations
 
+import functools
+import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -50,18 +52,27 @@ __all__ = ["TRACK_MODELS", "Condensation", "Reduced", "TrackModel", "condensatio
 @dataclass
 class Condensation:
     """What the condensed track model takes from the rail: the rail's interface basis, the
-    static modes and the rail parts of the reduced matrices. It depends only on the rows and
-    columns of the rail coordinates (the rail blocks and the vehicle–rail couplings), so a
-    system whose vehicle block alone differs reuses it (:meth:`fits`).
+    static modes and the rail parts of the reduced matrices.
+
+    The static modes depend only on the rail's interior (its blocks outside the interface),
+    the rail masses and the interface directions; the parts also on the couplings. A system
+    whose vehicle block alone differs reuses all of it; one whose rail rows and columns differ
+    only in and through the interface (another linearisation of the contact: the forces it
+    adds act on the rail heads and depend on their motion) reuses the static modes with new
+    parts (:meth:`adapt`).
 
     Attributes
     ----------
     n_veh : int
         Number of vehicle coordinates.
+    Qi : numpy.ndarray
+        (n_rail, n_i) orthonormal basis of the interface directions.
     Tr : numpy.ndarray
         (n_rail, n_i) rail coordinates per interface coordinate (static modes).
     Lr : numpy.ndarray
         (n_i, n_rail) the left (test) basis of the Petrov–Galerkin projection.
+    m_inv : numpy.ndarray
+        (n_i, n_i) inverse of the interface mass matrix Lr·diag(m_r)·Tr (1/kg).
     mass : numpy.ndarray
         (n_veh + n_i,) diagonal masses of the kept coordinates (kg, kg·m²).
     parts : dict of str to numpy.ndarray
@@ -74,13 +85,22 @@ class Condensation:
     """
 
     n_veh: int
+    Qi: np.ndarray
     Tr: np.ndarray
     Lr: np.ndarray
+    m_inv: np.ndarray
     mass: np.ndarray
     parts: dict[str, np.ndarray]
     rail_rows: dict[str, np.ndarray]
     rail_cols: dict[str, np.ndarray]
     rail_mass: np.ndarray
+
+    @functools.cached_property
+    def rail_scale(self) -> dict[str, float]:
+        """Largest entry of the rail block of K and C in force form (N/m, N·s/m)."""
+        r = slice(self.n_veh, None)
+        return {name: float(np.abs(self.rail_mass[:, None] * self.rail_rows[name][:, r]).max())
+                for name in ("K", "C")}
 
     def fits(self, full: SecondOrderSystem, mass: np.ndarray) -> bool:
         """Whether ``full`` has exactly the rail rows and columns this was made from."""
@@ -94,6 +114,81 @@ class Condensation:
             if name in ("K", "C") and not np.array_equal(a[:, r], self.rail_cols[name]):
                 return False
         return True
+
+    def interface_only(self, full: SecondOrderSystem, mass: np.ndarray) -> bool:
+        """Whether ``full`` differs from the system this was made from only in and through
+        the interface: the same rail masses, couplings whose rail parts lie in the interface
+        directions, and rail blocks whose change is Qi·X·Qiᵀ (within :data:`ADAPT_RTOL` of the
+        blocks' size). The static modes a fresh condensation would make are then these.
+        """
+        r = slice(self.n_veh, None)
+        if full.n != self.n_veh + self.Tr.shape[0] or not np.array_equal(mass[r],
+                                                                           self.rail_mass):
+            return False
+        m_r = self.rail_mass[:, None]
+        for name in ("K", "C"):
+            a = getattr(full, name)
+            couplings = (a[:self.n_veh, r], (m_r * a[r, :self.n_veh]).T)
+            if not all(_in_span(b, self.Qi) for b in couplings):
+                return False
+            if not _interface_change(a[r, r] - self.rail_rows[name][:, r], self.rail_mass,
+                                     self.rail_scale[name], self.Qi):
+                return False
+        return all(_in_span((m_r * getattr(full, name)[r]).T, self.Qi) for name in ("B0", "B1"))
+
+    def adapt(self, full: SecondOrderSystem, mass: np.ndarray) -> Condensation | None:
+        """The condensation for ``full``: itself if it fits exactly, one with its static modes
+        and new parts if ``full`` differs only in and through the interface, else None.
+        """
+        if self.fits(full, mass):
+            return self
+        if not self.interface_only(full, mass):
+            return None
+        v, r = slice(0, self.n_veh), slice(self.n_veh, full.n)
+        return Condensation(self.n_veh, self.Qi, self.Tr, self.Lr, self.m_inv, self.mass,
+                            _parts(full, mass, v, r, self.Tr, self.Lr, self.m_inv),
+                            *_rail_blocks(full, r), self.rail_mass)
+
+
+#: A change of the rail blocks counts as "in the interface" when what lies outside it is below
+#: this fraction of the blocks' largest entry: the finite-difference Jacobians' rounding (the
+#: coupling singular values below 1e-9 of the largest, :data:`INTERFACE_RTOL`), far below what
+#: a physical change of the rail's interior (a fastener, a rail mode) gives.
+ADAPT_RTOL = 1e-8
+
+
+def _in_span(rows: np.ndarray, Q: np.ndarray) -> bool:
+    """Whether every row of ``rows`` lies in the column span of the orthonormal ``Q``."""
+    scale = np.abs(rows).max()
+    return bool(scale == 0.0 or np.abs(rows - (rows @ Q) @ Q.T).max() <= ADAPT_RTOL * scale)
+
+
+def _interface_change(change: np.ndarray, mass: np.ndarray, scale: float, Q: np.ndarray
+                      ) -> bool:
+    """Whether the change ``mass[:, None]·change`` of a rail block (force form) is Q·X·Qᵀ
+    (Q orthonormal) within :data:`ADAPT_RTOL` of the block's largest entry ``scale``: whether
+    it and its transpose map the orthogonal complement of Q's span to zero. Tested on
+    :data:`N_PROBES` fixed random vectors of that complement (a product with them instead of
+    two with Q): a component outside the interface would have to be orthogonal to all of them.
+    """
+    p = _probes(change.shape[0])
+    p = p - Q @ (Q.T @ p)
+    p /= np.linalg.norm(p, axis=0)
+    tol = ADAPT_RTOL * scale * math.sqrt(change.shape[0])
+    return bool(np.abs(mass[:, None] * (change @ p)).max() <= tol
+                and np.abs(change.T @ (mass[:, None] * p)).max() <= tol)
+
+
+#: Probe vectors of :func:`_interface_change`.
+N_PROBES = 4
+
+
+@functools.lru_cache(maxsize=4)
+def _probes(n: int) -> np.ndarray:
+    """(n, :data:`N_PROBES`) fixed standard normal vectors (read-only)."""
+    z = np.random.default_rng(n).standard_normal((n, N_PROBES))
+    z.setflags(write=False)
+    return z
 
 
 @dataclass
@@ -146,9 +241,10 @@ def reduce_track(full: SecondOrderSystem, mass: np.ndarray, n_veh: int,
     track : {"condensed", "modal", "rigid"}
         Track model (module docstring).
     previous : Reduced, optional
-        A condensed reduction of a system with the same rail rows and columns (a parameter
-        sweep that does not touch the track or the contact): its condensation is reused, the
-        result is the same as without it.
+        A condensed reduction of a system with the same rail (a parameter sweep that does not
+        touch the track, or another linearisation of the same contact): its condensation is
+        reused where it fits (:meth:`Condensation.adapt`); the result is the same as without
+        it, to rounding.
     """
     n, m = full.n, full.m
     if track == "modal":
@@ -161,8 +257,9 @@ def reduce_track(full: SecondOrderSystem, mass: np.ndarray, n_veh: int,
                                 full.B1[v], full.B2[v])
         return Reduced(sys, v, T, np.zeros((n, m)), mass[v])
     if track == "condensed":
-        cd = previous.condensation if previous is not None else None
-        if cd is None or cd.n_veh != n_veh or not cd.fits(full, mass):
+        kept = previous.condensation if previous is not None else None
+        cd = kept.adapt(full, mass) if kept is not None and kept.n_veh == n_veh else None
+        if cd is None:
             cd = condensation(full, mass, n_veh)
         return _condensed(full, cd)
     raise ValueError(f"unknown track model {track!r}; use one of {', '.join(TRACK_MODELS)}")
@@ -206,17 +303,34 @@ def condensation(full: SecondOrderSystem, mass: np.ndarray, n_veh: int) -> Conde
     Lr = Qi.T + Lc @ Qc.T
     m_ii = Lr @ (mass[r, None] * Tr)
     mi = np.linalg.inv(m_ii)
+    red_mass = np.concatenate([mass[v], np.abs(np.diag(m_ii))])
+    return Condensation(n_veh, Qi, Tr, Lr, mi, red_mass, _parts(full, mass, v, r, Tr, Lr, mi),
+                        *_rail_blocks(full, r), mass[r].copy())
+
+
+def _parts(full: SecondOrderSystem, mass: np.ndarray, v: slice, r: slice, Tr: np.ndarray,
+           Lr: np.ndarray, mi: np.ndarray) -> dict[str, np.ndarray]:
+    """The mass-normalised reduced blocks of ``full`` that involve the rail (static modes
+    ``Tr``, test basis ``Lr``, inverse interface mass ``mi``).
+    """
+    m_r = mass[r, None]
     parts: dict[str, np.ndarray] = {}
-    for name, full_m, force in (("K", full.K, Kf), ("C", full.C, Cf)):
-        parts[f"{name}_vi"] = full_m[v, r] @ Tr
-        parts[f"{name}_iv"] = mi @ (Lr @ force[r, v])
-        parts[f"{name}_ii"] = mi @ (Lr @ force[r, r] @ Tr)
-    parts["B0_i"] = mi @ (Lr @ Bf0[r])
-    parts["B1_i"] = mi @ (Lr @ Bf1[r])
+    for name in ("K", "C"):
+        a = getattr(full, name)
+        parts[f"{name}_vi"] = a[v, r] @ Tr
+        parts[f"{name}_iv"] = mi @ (Lr @ (m_r * a[r, v]))
+        parts[f"{name}_ii"] = mi @ ((Lr @ (m_r * a[r, r])) @ Tr)
+    parts["B0_i"] = mi @ (Lr @ (m_r * full.B0[r]))
+    parts["B1_i"] = mi @ (Lr @ (m_r * full.B1[r]))
+    return parts
+
+
+def _rail_blocks(full: SecondOrderSystem, r: slice
+                 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Copies of the rail rows (K, C, B0, B1) and rail columns (K, C) of ``full``."""
     rows = {name: getattr(full, name)[r].copy() for name in ("K", "C", "B0", "B1")}
     cols = {name: getattr(full, name)[:, r].copy() for name in ("K", "C")}
-    red_mass = np.concatenate([mass[v], np.abs(np.diag(m_ii))])
-    return Condensation(n_veh, Tr, Lr, red_mass, parts, rows, cols, mass[r].copy())
+    return rows, cols
 
 
 def _condensed(full: SecondOrderSystem, cd: Condensation) -> Reduced:

@@ -32,7 +32,7 @@ from flexride.frequency.model import LinearModel
 from flexride.frequency.track_input import TrackSpectra
 
 __all__ = ["ResponseSpectra", "channel_frf", "modal_input", "output_response", "response",
-           "select_channels"]
+           "select_channels", "wheel_variance"]
 
 
 @dataclass
@@ -186,8 +186,24 @@ def modal_input(model: LinearModel, f: np.ndarray, rail_maps: np.ndarray) -> np.
     Returns
     -------
     numpy.ndarray
-        (n_f, n_comp, n_modes) complex.
+        (n_f, n_comp, n_modes) complex, read-only: kept on the model for the next call with
+        the same grid and maps.
     """
+    memo = getattr(model, "modal_inputs", None)  # a model-like stand-in may have none
+    key = (np.asarray(f, dtype=float).tobytes(), np.asarray(rail_maps, dtype=float).tobytes())
+    kept = memo.get(key) if memo is not None else None
+    if kept is not None and kept[0] is model.modes:
+        return kept[1]
+    eta = _modal_input(model, f, rail_maps)
+    eta.setflags(write=False)
+    if memo is not None:
+        memo.clear()  # one grid at a time: the last one asked for
+        memo[key] = (model.modes, eta)
+    return eta
+
+
+def _modal_input(model: LinearModel, f: np.ndarray, rail_maps: np.ndarray) -> np.ndarray:
+    """:func:`modal_input` computed."""
     sys, modes = model.system, model.modes
     n, nw, nc = sys.n, model.wheelset_x.size, rail_maps.shape[0]
     nk = modes.lam.size
@@ -277,10 +293,7 @@ def response(model: LinearModel, spectra: TrackSpectra | None = None,
         No spectra (the scenario has no random irregularity and none was given), or an unknown
         point.
     """
-    spectra = spectra or model.spectra
-    if spectra is None:
-        raise ScenarioError("no track spectra: the scenario has no random irregularity; pass "
-                            "spectra")
+    spectra = _spectra(model, spectra)
     f = frequency_grid(model.modes) if frequencies is None else np.asarray(frequencies, float)
     channels = select_channels(model, points)
     maps = spectra.rail_maps()
@@ -288,7 +301,36 @@ def response(model: LinearModel, spectra: TrackSpectra | None = None,
     eta = modal_input(model, f, maps)
     Y, rows = output_response(model, _sub(model.accelerations, channels), f, maps, eta)
     by_comp = _power(Y).transpose(1, 2, 0) * g[:, None, :]
-    Yw, _r = output_response(model, model.wheels, f, maps, eta)
-    wheel = (_power(Yw).transpose(1, 2, 0) * g[:, None, :]).sum(axis=0)
+    wheel = _wheel_psd(model, model.wheels, f, maps, eta, g)
     return ResponseSpectra(model, spectra, f, channels, by_comp.sum(axis=0), by_comp, g,
                            list(model.wheels.names), wheel, eta, rows, Y)
+
+
+def wheel_variance(model: LinearModel, names: Sequence[str]) -> np.ndarray:
+    """Variances of the wheel channels ``names`` in the response to the scenario's spectra on
+    the default grid (units²): the values :func:`response`'s wheel PSD gives them, without
+    computing the other channels.
+    """
+    spectra = _spectra(model, None)
+    f = frequency_grid(model.modes)
+    maps = spectra.rail_maps()
+    eta = modal_input(model, f, maps)
+    psd = _wheel_psd(model, _sub(model.wheels, list(names)), f, maps, eta,
+                     spectra.psd(f, model.speed))
+    return psd @ integration_weights(f)
+
+
+def _spectra(model: LinearModel, spectra: TrackSpectra | None) -> TrackSpectra:
+    """``spectra``, else the scenario's (ScenarioError when it has none)."""
+    spectra = spectra or model.spectra
+    if spectra is None:
+        raise ScenarioError("no track spectra: the scenario has no random irregularity; pass "
+                            "spectra")
+    return spectra
+
+
+def _wheel_psd(model: LinearModel, out: OutputMap, f: np.ndarray, maps: np.ndarray,
+               eta: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """(n_out, n_f) PSDs of the wheel channels ``out``, the components' contributions summed."""
+    Yw, _rows = output_response(model, out, f, maps, eta)
+    return (_power(Yw).transpose(1, 2, 0) * g[:, None, :]).sum(axis=0)
