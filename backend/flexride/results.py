@@ -30,14 +30,16 @@ import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import h5py
 import numpy as np
 
 from flexride.errors import ResultsFileError
 from flexride.fileio import atomic_path
 from flexride.units import kmh_to_mps
+
+if TYPE_CHECKING:
+    import h5py
 
 FORMAT_NAME = "flexride-results"
 FORMAT_VERSION = 3
@@ -192,6 +194,8 @@ class Results:
         from flexride import __version__
 
         dest = Path(path)
+        import h5py  # on use: a run's import stays light (docs/architecture.md)
+
         with atomic_path(dest) as tmp_name, h5py.File(tmp_name, "w") as f:
             f.attrs["format"] = FORMAT_NAME
             f.attrs["format_version"] = FORMAT_VERSION
@@ -224,6 +228,8 @@ class Results:
         if not p.is_file():
             raise ResultsFileError(f"results file not found: {p}")
         try:
+            import h5py
+
             with h5py.File(p, "r") as f:
                 if f.attrs.get("format") != FORMAT_NAME:
                     raise ResultsFileError(f"{p} is not a flexride results file")
@@ -276,6 +282,8 @@ def points_from_scenario(scenario: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def _write_points(f: h5py.File, points: list[dict[str, Any]]) -> None:
+    import h5py
+
     grp = f.create_group("points")
     text = h5py.string_dtype("utf-8")
     grp.create_dataset("body", data=[p["body"] for p in points], dtype=text)

@@ -15,11 +15,18 @@ import time
 
 import numpy as np
 import pytest
+from scipy import fft as sp_fft
 from scipy import integrate, signal
 
 from flexride.errors import ScenarioError
 from flexride.track.profile import IrregularityProfile
-from flexride.track.spectra import band_rms, german_psd, random_profile, spatial_psd
+from flexride.track.spectra import (
+    band_rms,
+    german_psd,
+    next_fast_len,
+    random_profile,
+    spatial_psd,
+)
 
 B = 0.75
 COMPONENTS = ("vertical", "alignment", "cross_level", "gauge")
@@ -262,3 +269,11 @@ def test_random_profile_fades_in_over_20_m():
     np.testing.assert_array_equal(shorter.z_left[s >= 5.0], plain.z_left[s >= 5.0])
     with pytest.raises(ScenarioError, match="fade_in_m"):
         random_profile(100.0, fade_in_m=-1.0)
+
+
+def test_fast_fft_length_is_scipys():
+    """The synthesis length is SciPy's next fast length for real transforms (5-smooth), the
+    oracle, for every length up to 2·10⁵ and at a few large ones."""
+    lengths = [*range(1, 200_001), 999_983, 1_048_577, 4_782_969 + 1, 9_765_626]
+    assert [next_fast_len(n) for n in lengths] == [
+        sp_fft.next_fast_len(n, real=True) for n in lengths]

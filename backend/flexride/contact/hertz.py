@@ -17,8 +17,6 @@ import math
 from typing import Literal
 
 import numba
-from scipy.optimize import brentq
-from scipy.special import ellipe, ellipkm1
 
 from flexride._numba_env import FASTMATH
 from flexride.errors import ScenarioError
@@ -104,6 +102,8 @@ def _cos_theta_of_ratio(k: float) -> float:
     Hertz's compatibility conditions give (B' − A')/(A' + B') = ((1 + k²)E − 2k²K)/(e²E).
     ``ellipkm1(k²)`` = K(1 − k²) keeps K accurate for slender ellipses.
     """
+    from scipy.special import ellipe, ellipkm1  # on use: a run's import stays light
+
     k2 = k * k
     e2 = 1.0 - k2
     big_k = ellipkm1(k2)
@@ -129,6 +129,9 @@ def _hertz_m_n(cos_theta: float) -> tuple[float, float, float]:
             "the contact ellipse is too slender (curvature ratio beyond 1e12); "
             "one relative curvature is practically zero (line contact)"
         )
+    from scipy.optimize import brentq
+    from scipy.special import ellipe
+
     k = brentq(lambda kk: _cos_theta_of_ratio(kk) - cos_theta, k_lo, k_hi, xtol=1e-15, rtol=1e-13)
     e2 = 1.0 - k * k
     m = (2.0 * ellipe(e2) / (math.pi * k * k)) ** (1.0 / 3.0)
@@ -224,6 +227,8 @@ def hertz_contact(A: float, B: float, E: float, nu: float) -> tuple[float, float
     cos_theta = abs(curv_x - curv_y) / (curv_x + curv_y)
     m, n, k = _hertz_m_n(cos_theta)
     e_star = modulus / (2.0 * (1.0 - nu * nu))
+    from scipy.special import ellipkm1
+
     big_k = float(ellipkm1(k * k))  # K(e²) with e² = 1 − k²
     g_const = 3.0 * big_k / (2.0 * math.pi * m * scale * e_star)
     if curv_x <= curv_y:

@@ -57,7 +57,6 @@ from functools import partial
 from typing import NamedTuple
 
 import numpy as np
-from scipy import fft as sp_fft
 
 from flexride.errors import ScenarioError
 from flexride.scenario.excitation import IRREGULARITY_COMPONENTS, SpectrumTable
@@ -464,7 +463,7 @@ def _synthesis_grid(n: int, ds: float, wavelength_min_m: float,
         rad/m), ``om_lo``/``om_hi`` (band edges, rad/m), ``band`` (slice of the lines in the
         band) and ``k_hi`` (its last line).
     """
-    n_syn = sp_fft.next_fast_len(max(n, math.ceil(_MIN_PERIODS * wavelength_max_m / ds)), real=True)
+    n_syn = next_fast_len(max(n, math.ceil(_MIN_PERIODS * wavelength_max_m / ds)))
     period = n_syn * ds
     d_omega = 2.0 * math.pi / period
     k = np.arange(n_syn // 2 + 1)
@@ -510,7 +509,26 @@ def _component_series(grid: _SynthesisGrid, n: int, psd: Callable[[np.ndarray], 
     if n_syn % 2 == 0 and grid.k_hi == n_syn // 2:
         # the Nyquist line is real and enters once: c = N·a, a ~ N(0, E)
         coeff[-1] = n_syn * std[-1] * gauss[0, -1]
-    return sp_fft.irfft(coeff, n=n_syn)[:n]
+    return np.fft.irfft(coeff, n=n_syn)[:n]
+
+
+def next_fast_len(n: int) -> int:
+    """The smallest 2^a·3^b·5^c ≥ ``n``: the lengths pocketfft transforms fastest for real
+    data, what ``scipy.fft.next_fast_len(n, real=True)`` returns (tested against it). Kept
+    here with NumPy's FFT because importing ``scipy.fft`` costs a run 16 MB of memory.
+    """
+    best = 2 * max(n, 1)
+    p5 = 1
+    while p5 < best:
+        p35 = p5
+        while p35 < best:
+            m = p35
+            while m < n:
+                m *= 2
+            best = min(best, m)
+            p35 *= 3
+        p5 *= 5
+    return best
 
 
 def fade_in_weight(s: np.ndarray, fade_in_m: float = RANDOM_FADE_IN_M) -> np.ndarray:

@@ -27,7 +27,6 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
-from scipy.interpolate import CubicSpline, make_smoothing_spline
 
 from flexride.errors import ScenarioError
 
@@ -255,6 +254,9 @@ class ProfileCurve:
         y, z = profile.y, profile.z
         sigma = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(y), np.diff(z)))])
         self.sigma = sigma
+        # on use: a run whose profile table is cached does not import scipy.interpolate
+        from scipy.interpolate import CubicSpline, make_smoothing_spline
+
         if ell > 0.0:
             lam = (ell / (2.0 * math.pi)) ** 4 / float(np.mean(np.diff(sigma)))
             self._y = make_smoothing_spline(sigma, y, lam=lam)
