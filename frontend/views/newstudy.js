@@ -15,7 +15,6 @@ export const CONDITIONS = [
   ["settlement", "Settlement (long wave)"],
 ];
 const MAX_JOBS = 256;
-const MAX_SEEDS = 20; // the service's bound (flexride.study.seeds.MAX_SERVICE_SEEDS; GET /openapi.json says so)
 
 /** Numeric leaf paths of the scenario schema: [{path, label, unit}]. */
 export function numericPaths(schema) {
@@ -45,6 +44,20 @@ export function numericPaths(schema) {
 }
 
 /** "50, 60 70" → [50, 60, 70]; throws on bad numbers. */
+/**
+ * Options of a select from a property of the service's study schema (GET /openapi.json): its
+ * `enum` in order, each labelled by the schema's `x-enum-labels`, the default selected.
+ */
+export function choiceOptions(prop) {
+  const labels = prop?.["x-enum-labels"] || {};
+  return (prop?.enum || []).map((v) => h("option", { value: v, selected: v === prop.default }, labels[v] || v));
+}
+
+/** The largest value an integer property of the schema allows (the integer branch of a nullable one). */
+export function schemaMaximum(prop) {
+  return (prop?.anyOf || [prop]).find((node) => node?.type === "integer")?.maximum;
+}
+
 export function parseList(text, { numeric = true } = {}) {
   const parts = String(text || "").split(/[,;\s]+/).map((x) => x.trim()).filter(Boolean);
   if (!numeric) return parts;
@@ -61,15 +74,18 @@ export default async function render(main, ctx) {
   let presets;
   let studyPresets;
   let schema;
+  let studyFields;
   try {
-    [presets, studyPresets, schema] = await Promise.all([
-      cached("presets", api.presets), cached("study-presets", api.studyPresets), cached("schema", api.scenarioSchema)]);
+    [presets, studyPresets, schema, studyFields] = await Promise.all([
+      cached("presets", api.presets), cached("study-presets", api.studyPresets), cached("schema", api.scenarioSchema),
+      api.openapi().then((spec) => spec?.components?.schemas?.StudyCreate?.properties || {})]);
   } catch (err) {
     setChildren(main, h("h1", {}, "New study"), errorBox(err, "The study form could not be prepared"));
     return undefined;
   }
   if (ctx.signal.aborted) return undefined;
   const paths = numericPaths(schema);
+  const maxSeeds = schemaMaximum(studyFields.seeds) ?? 1; // the service's bound (MAX_SERVICE_SEEDS)
 
   const msg = h("div", { id: "study-message", "aria-live": "polite" });
   const countEl = h("div", { class: "count-big", id: "study-count", "aria-live": "polite" }, "1");
@@ -88,10 +104,8 @@ export default async function render(main, ctx) {
   const paramRows = h("div", { class: "stack", id: "study-params" });
   const seeds = h("input", { id: "study-seeds", type: "text", value: "1", inputmode: "numeric", autocomplete: "off", "aria-describedby": "study-seeds-help study-seeds-err" });
   const seedsErr = h("div", { class: "field-error", id: "study-seeds-err" });
-  const section = h("select", { id: "study-section", "aria-describedby": "study-section-help" },
-    [["paper", "the paper report's sections (the arc of a curve)"], ["curve", "the whole curve, transitions included"], ["run", "the whole run"]].map(([v, t]) => h("option", { value: v }, t)));
-  const cutoff = h("select", { id: "study-cutoff", "aria-describedby": "study-cutoff-help" },
-    [["follow", "follow the excitation (at least 1.5 × V/λ_min)"], ["as_given", "as the base scenario gives it"]].map(([v, t]) => h("option", { value: v }, t)));
+  const section = h("select", { id: "study-section", "aria-describedby": "study-section-help" }, choiceOptions(studyFields.section));
+  const cutoff = h("select", { id: "study-cutoff", "aria-describedby": "study-cutoff-help" }, choiceOptions(studyFields.cutoff));
   const duration = h("input", { id: "study-duration", type: "text", inputmode: "decimal", value: "", placeholder: "as in the scenario", "aria-describedby": "study-duration-help study-duration-err", autocomplete: "off" });
   const durationErr = h("div", { class: "field-error", id: "study-duration-err" });
   const extra = h("textarea", { id: "study-overrides", rows: 3, class: "mono", placeholder: "solver.dt: 5.0e-5\nvehicle.carbody.mass: 38000", "aria-describedby": "study-overrides-help study-overrides-err" });
@@ -178,13 +192,13 @@ export default async function render(main, ctx) {
     seedsErr.textContent = "";
     seeds.removeAttribute("aria-invalid");
     const ns = Number(seeds.value.trim() || "1");
-    if (!(Number.isInteger(ns) && ns >= 1 && ns <= MAX_SEEDS)) {
-      seedsErr.textContent = `Realisations must be a whole number from 1 to ${MAX_SEEDS}`;
+    if (!(Number.isInteger(ns) && ns >= 1 && ns <= maxSeeds)) {
+      seedsErr.textContent = `Realisations must be a whole number from 1 to ${maxSeeds}`;
       seeds.setAttribute("aria-invalid", "true");
       problems.push(["study-seeds", "Realisations out of range"]);
     } else if (ns > 1) req.seeds = ns;
-    if (section.value !== "paper") req.section = section.value;
-    if (cutoff.value !== "follow") req.cutoff = cutoff.value;
+    if (section.value !== studyFields.section?.default) req.section = section.value;
+    if (cutoff.value !== studyFields.cutoff?.default) req.cutoff = cutoff.value;
     const overrides = {};
     durationErr.textContent = "";
     duration.removeAttribute("aria-invalid");
@@ -252,8 +266,8 @@ export default async function render(main, ctx) {
     paramRows.replaceChildren();
     for (const pa of r.parameters || []) addParam(pa.path, pa.values.join(", "));
     seeds.value = String(r.seeds || 1);
-    section.value = r.section || "paper";
-    cutoff.value = r.cutoff || "follow";
+    section.value = r.section || studyFields.section?.default;
+    cutoff.value = r.cutoff || studyFields.cutoff?.default;
     update();
   }
 
@@ -331,7 +345,7 @@ export default async function render(main, ctx) {
       h("fieldset", { class: "enumset" }, h("legend", {}, "Any parameter"), paramRows, datalist,
         h("button", { type: "button", class: "btn btn-small", onclick: () => addParam() }, "Add parameter")),
       h("label", { for: "study-seeds" }, "Irregularity realisations per condition (seeds)", seeds),
-      h("p", { class: "help", id: "study-seeds-help" }, `1–${MAX_SEEDS}. Realisation k draws the random track with each seed + k − 1 (1: the scenario's own); the results show every index as the mean with its 95 % confidence interval (error bars). Conditions without a random irregularity run once.`), seedsErr)),
+      h("p", { class: "help", id: "study-seeds-help" }, `1–${maxSeeds}. Realisation k draws the random track with each seed + k − 1 (1: the scenario's own); the results show every index as the mean with its 95 % confidence interval (error bars). Conditions without a random irregularity run once.`), seedsErr)),
   h("section", { class: "card" }, h("h2", {}, "For every job"),
     h("div", { class: "stack" },
       h("label", { for: "study-duration" }, "Simulated time per job (s)", duration),

@@ -14,7 +14,10 @@ from __future__ import annotations
 
 import json
 import re
-from typing import Any
+from typing import Any, get_args
+
+from flexride.scenario.fidelity import CUTOFF_RULE_LABELS, CutoffRule
+from flexride.study.sections import SECTION_RULE_LABELS, SectionRule
 
 try:
     from playwright.sync_api import expect
@@ -110,6 +113,12 @@ def test_new_study_form_takes_seeds_section_and_offers_the_report(page, server):
     assert "3 irregularity realisations" in page.locator("#study-count-info").inner_text()
     assert page.locator("#study-section").input_value() == "paper"
     assert "circular arc" in page.locator("#study-section-help").inner_text()
+    # the choices are the service's (GET /openapi.json), in its order with its labels
+    for select, rule, labels in (("#study-section", SectionRule, SECTION_RULE_LABELS),
+                                 ("#study-cutoff", CutoffRule, CUTOFF_RULE_LABELS)):
+        shown = page.locator(f"{select} option").evaluate_all(
+            "os => os.map(o => [o.value, o.textContent])")
+        assert shown == [[v, labels[v]] for v in get_args(rule)]
     page.fill("#study-seeds", "21")
     page.click("#submit-study")
     assert "1 to 20" in page.locator("#study-seeds-err").inner_text()

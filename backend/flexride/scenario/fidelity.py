@@ -18,13 +18,18 @@ from typing import Any, Literal
 
 from flexride.scenario.scenario import Scenario
 
-__all__ = ["BODY_PARTS", "CUTOFF_FACTOR", "CUTOFF_STEP_HZ", "DEFAULT_CUTOFF_RULE",
-           "CutoffRule", "cutoff_notes", "excitation_frequency_hz", "required_cutoffs",
-           "shortest_wavelength", "sufficient_cutoff_hz", "with_cutoffs"]
+__all__ = ["BODY_PARTS", "CUTOFF_FACTOR", "CUTOFF_RULE_LABELS", "CUTOFF_STEP_HZ",
+           "DEFAULT_CUTOFF_RULE", "CutoffRule", "cutoff_notes", "excitation_frequency_hz",
+           "required_cutoffs", "shortest_wavelength", "sufficient_cutoff_hz", "with_cutoffs"]
 
 CutoffRule = Literal["follow", "as_given"]
 """What a study does with its flexible bodies' cut-off: raise it to the rule, or keep it."""
 DEFAULT_CUTOFF_RULE: CutoffRule = "follow"
+CUTOFF_RULE_LABELS: dict[CutoffRule, str] = {
+    "follow": "follow the excitation (at least 1.5 × V/λ_min)",
+    "as_given": "as the base scenario gives it",
+}
+"""A short label of every rule, for choices (the API schema's ``x-enum-labels``)."""
 
 BODY_PARTS = ("carbody", "frames")
 """The scenario's body-model entries that can be flexible."""

@@ -14,12 +14,18 @@ from typing import Any, Literal
 
 from flexride.scenario.scenario import Scenario
 
-__all__ = ["DEFAULT_SECTION_RULE", "SectionRule", "job_section"]
+__all__ = ["DEFAULT_SECTION_RULE", "SECTION_RULE_LABELS", "SectionRule", "job_section"]
 
 SectionRule = Literal["paper", "curve", "run"]
 """``paper``: the report's sections (the arc on a curve); ``curve``: the same but the whole
 curve with its transitions; ``run``: the whole run."""
 DEFAULT_SECTION_RULE: SectionRule = "paper"
+SECTION_RULE_LABELS: dict[SectionRule, str] = {
+    "paper": "the paper report's sections (the arc of a curve)",
+    "curve": "the whole curve, transitions included",
+    "run": "the whole run",
+}
+"""A short label of every rule, for choices (the API schema's ``x-enum-labels``)."""
 
 
 

@@ -22,9 +22,9 @@ from flexride.api.schemas.common import (
     ScenarioInput,
     _Strict,
 )
-from flexride.scenario.fidelity import DEFAULT_CUTOFF_RULE, CutoffRule
+from flexride.scenario.fidelity import CUTOFF_RULE_LABELS, DEFAULT_CUTOFF_RULE, CutoffRule
 from flexride.settings import API_PREFIX
-from flexride.study.sections import DEFAULT_SECTION_RULE, SectionRule
+from flexride.study.sections import DEFAULT_SECTION_RULE, SECTION_RULE_LABELS, SectionRule
 from flexride.study.seeds import MAX_SERVICE_SEEDS
 
 # -- studies ---------------------------------------------------------------------------------
@@ -93,13 +93,15 @@ class StudyCreate(_Strict):
         "report's rules: on a curve the circular arc, on straight track from 30 m on, a "
         "settlement the whole run), curve (the whole curve with its transitions, otherwise as "
         "paper) or run (the whole run). A section shorter than 6 s of the run falls back to "
-        "the whole run; the tables state each index's section.")
+        "the whole run; the tables state each index's section.",
+        json_schema_extra={"x-enum-labels": {k: v for k, v in SECTION_RULE_LABELS.items()}})
     cutoff: CutoffRule = Field(
         DEFAULT_CUTOFF_RULE, description="Elastic-mode cut-off of flexible bodies: follow "
         "(raise each job's cut-off to at least 1.5 × its highest excitation frequency "
         "V/λ_min, rounded up to 10 Hz: 70 Hz for 0.5 m corrugation at 80 km/h) or as_given "
         "(the scenario's; a job that keeps fewer modes than its excitation drives says so "
-        "in its notes)")
+        "in its notes)",
+        json_schema_extra={"x-enum-labels": {k: v for k, v in CUTOFF_RULE_LABELS.items()}})
     quick: bool | None = Field(
         None, description="paper-report preset only: the shortened study of `flexride paper "
         "report --quick` (2 speeds, 1/4 of every evaluated stretch)")
