@@ -190,24 +190,67 @@ PROFILE_SKIP_S = 10.0
 @pytest.fixture(scope="module", params=[80, 50])
 def profile_record(request):
     """The solver over 10 km of ``paper-random-straight-{80,50}`` with its S1002/60E1
-    profiles (rigid bodies), and the default (quasi-linear) estimate of the same scenario."""
+    profiles (rigid bodies), and the default (quasi-linear) estimate of the same scenario; the
+    record's ``input`` is the four rail irregularities (z left, z right, y left, y right) under
+    the leading wheelset."""
     sc = preset(f"paper-random-straight-{request.param}", distance_m=PROFILE_RECORD_M,
                 duration_s=None)
     res = simulate(sc)
     skip = int(PROFILE_SKIP_S * res.sample_rate)
-    return sc, res.sample_rate, {k: v[skip:] for k, v in res.channels.items()}, estimate(sc)
+    est = estimate(sc)
+    rec = {k: v[skip:] for k, v in res.channels.items()}
+    lead = float(np.max(est.model.wheelset_x))
+    rec["input"] = np.array(assemble(sc).irregularity.sample(np.asarray(res.distance)[skip:]
+                                                             + lead))
+    return sc, res.sample_rate, rec, est
+
+
+@pytest.mark.parametrize("point, rel", [("PC", 0.10), ("PFB", 0.10), ("PR", 0.05)])
+def test_profiles_quasi_linear_lateral_rms_against_the_solver(profile_record, point, rel):
+    """Car-body lateral rms within 5 % at PR, 10 % at PC and PFB: there the solver's response
+    carries more nonlinear power than a linear model gives (the next test says how much).
+    Measured −7.9 … −0.9 % (docs/analysis.md); the local linearisation was −2 … +20 %."""
+    _sc, _fs, rec, est = profile_record
+    td = float(np.std(rec[f"carbody.{point}.acc.y"]))
+    assert est.comfort.point(point).directions["y"].rms == pytest.approx(td, rel=rel)
+    assert est.model.quasi_linear.converged
+
+
+def _coherent_share(y: np.ndarray, u: np.ndarray, fs: float, f_max: float,
+                    segment_s: float = 8.0) -> float:
+    """Share of the power of ``y`` that any linear time-invariant model of the inputs ``u``
+    (rows) can reproduce: the multiple coherence's power S_yu·S_uu⁻¹·S_uy summed over the
+    Welch bins from 0.2 Hz to ``f_max`` (where the inputs have power), over all of y's power."""
+    nper = int(segment_s * fs)
+    f, syy = signal.welch(y, fs=fs, nperseg=nper)
+    n = u.shape[0]
+    suu = np.stack([np.stack([signal.csd(u[i], u[j], fs=fs, nperseg=nper)[1]
+                              for j in range(n)], -1) for i in range(n)], -2)
+    suy = np.stack([signal.csd(u[i], y, fs=fs, nperseg=nper)[1] for i in range(n)], -1)
+    band = (f >= 0.2) & (f <= f_max)
+    sol = np.linalg.solve(suu[band], suy[band][..., None])[..., 0]
+    coherent = np.real(np.einsum("fi,fi->f", suy[band].conj(), sol))
+    return float(coherent.sum() / syy.sum())
 
 
 @pytest.mark.parametrize("point", ["PC", "PFB", "PR"])
-def test_profiles_quasi_linear_lateral_rms_against_the_solver(profile_record, point):
-    """Car-body lateral rms within 10 %: statistical linearisation is approximate (a Gaussian
-    Δy where the solver's has flange contacts 1–2 % of the time, 20 Gauss–Hermite nodes on a
-    Δr with a jump, the mean force shift and the creep relaxation neglected). Measured
-    −8.1 … −1.4 % (docs/analysis.md); the local linearisation was −2 … +20 %."""
-    _sc, _fs, rec, est = profile_record
-    td = float(np.std(rec[f"carbody.{point}.acc.y"]))
-    assert est.comfort.point(point).directions["y"].rms == pytest.approx(td, rel=0.10)
-    assert est.model.quasi_linear.converged
+def test_profiles_lateral_gap_is_within_the_solvers_nonlinear_share(profile_record, point):
+    """Which side is wrong where the estimate is 5–8 % low at PC and PFB: neither. Only 75–88 %
+    of the solver's lateral power is coherent with the four rail irregularities (multiple
+    coherence over the input's band; the rest: the contact's nonlinearity — flange contacts,
+    creep coefficients and patch modulated by Δy — and power outside the input's band). A linear
+    model's output is all coherent with the input: √(share) is the rms a linear model with the
+    solver's own transfer functions would give. The quasi-linear estimate gives at least that
+    (−1 … +9 % above it): it misses part of the nonlinear power, none of the linear.
+    (tools/studies/quasilinear_diagnosis.py: the solver is converged at this amplitude, and the
+    local model matches it within 3.5 % where the contact is linear, at 1 % of the amplitude.)"""
+    sc, fs, rec, est = profile_record
+    y = rec[f"carbody.{point}.acc.y"]
+    f_max = 0.95 * sc.speed_mps / sc.excitation[0].wavelength_min_m
+    share = _coherent_share(y - y.mean(), rec["input"], fs, f_max)
+    ratio = est.comfort.point(point).directions["y"].rms / float(np.std(y))
+    assert share < 0.9  # measured 0.75–0.88
+    assert ratio >= np.sqrt(share) - 0.03  # measured −0.011 (PFB, 80 km/h) … +0.086
 
 
 def test_profiles_quasi_linear_lateral_sperling_at_pc(profile_record):
