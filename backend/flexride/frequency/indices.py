@@ -156,7 +156,10 @@ def _line_kernel(f_max: float, segment_s: float) -> _LineKernel:
     n_lines = math.floor(hi * segment_s + 1e-9) + PEAK_HALF_WIDTH + 1
     per_line = max(1, math.ceil(1.0 / (segment_s * FINE_DF) - 1e-9))  # grid steps per line
     step = 1.0 / (segment_s * per_line)
-    n = max(math.ceil(f_max / step - 1e-9) - 1, per_line * n_lines)
+    # the grid up to the last line plus the kernel's half width (what the sums read), within
+    # f_max (beyond it the PSD is zero)
+    n = min(max(math.ceil(f_max / step - 1e-9) - 1, per_line * n_lines),
+            per_line * (n_lines + KERNEL_HALF_LINES))
     q = np.arange(-KERNEL_HALF_LINES, KERNEL_HALF_LINES)
     blocks = _window_gain(q[:, None] + np.arange(per_line)[None, :] / per_line)
     lines = np.arange(1, n_lines + 1) / segment_s

@@ -28,7 +28,9 @@ accelerometer sees when the body rolls (on a curve the frame's specific force in
 
 from __future__ import annotations
 
+import functools
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -144,8 +146,8 @@ class LinearModel:
         clearance (m, conical tread) and the contact model.
     modes : Modes
         Eigendecomposition of the state matrix.
-    mode_info : list of ModeInfo
-        One entry per eigenvalue: frequency, damping, dominant coordinates, label.
+    mode_describer : callable
+        Makes :attr:`mode_info` (on first use: a sweep's local models are never described).
     spectra : TrackSpectra or None
         The scenario's random irregularity (None when it has none).
     quasi_static : dict
@@ -180,7 +182,7 @@ class LinearModel:
     wheels: OutputMap
     static_wheel: dict[str, Any]
     modes: Modes
-    mode_info: list[ModeInfo]
+    mode_describer: Callable[[], list[ModeInfo]] = field(repr=False, compare=False)
     spectra: TrackSpectra | None
     quasi_static: dict[str, dict[str, float]]
     flags: list[str] = field(default_factory=list)
@@ -190,6 +192,11 @@ class LinearModel:
     quasi_linear: Any = field(default=None, repr=False, compare=False)
     modal_inputs: dict[tuple[bytes, bytes], tuple[Any, np.ndarray]] = field(
         default_factory=dict, repr=False, compare=False)
+
+    @functools.cached_property
+    def mode_info(self) -> list[ModeInfo]:
+        """One entry per eigenvalue: frequency, damping, dominant coordinates, label."""
+        return self.mode_describer()
 
     @property
     def duration(self) -> float:
@@ -292,14 +299,17 @@ def _wheel_outputs(op: OperatingPoint, veh: VehicleModel, daux_dX: np.ndarray,
     return OutputMap(names, np.zeros((len(names), n)), Gm, np.array(D_rows)), static
 
 
-def _check_stable(modes: Modes, info: list[ModeInfo]) -> None:
-    """Refuse a linearised system with a growing mode (hunting above its critical speed)."""
+def _check_stable(modes: Modes, describe: Callable[[], list[ModeInfo]]) -> None:
+    """Refuse a linearised system with a growing mode (hunting above its critical speed);
+    ``describe`` names the modes.
+    """
     bad = np.flatnonzero(modes.lam.real > UNSTABLE_RATE)
     if bad.size:
         k = int(bad[np.argmax(modes.lam.real[bad])])
+        label = describe()[k].label
         raise LinearisationError(
             f"the linearised system is unstable: a mode at {modes.damped_frequency_hz[k]:.2f} Hz "
-            f"({info[k].label}) grows at {modes.lam.real[k]:.3g} 1/s (hunting?); a stationary "
+            f"({label}) grows at {modes.lam.real[k]:.3g} 1/s (hunting?); a stationary "
             "response does not exist", "unstable")
 
 
@@ -410,15 +420,17 @@ def model_from(scenario: Scenario, lin: Linearisation, track: TrackModel,
     t2 = time.perf_counter()
     modes = red.system.modes()
     names = [op.asm.dof_names[i] if i >= 0 else f"rail.head{-i}" for i in red.keep]
-    info = describe_modes(modes, red.mass, names, veh)
-    _check_stable(modes, info)
+    def describe() -> list[ModeInfo]:
+        return describe_modes(modes, red.mass, names, veh)
+
+    _check_stable(modes, describe)
     t3 = time.perf_counter()
     ws_x = np.array([veh.bodies[b].x_ref for b in veh.wheelsets])
     return LinearModel(
         scenario=scenario, track=track, system=red.system, dof_names=names,
         speed=float(scenario.speed_mps), wheelset_x=ws_x, points=list(veh.recorded),
         accelerations=red.outputs(acc), wheels=red.outputs(wheels), static_wheel=static,
-        modes=modes, mode_info=info, spectra=spectra, quasi_static=qs, flags=flags,
+        modes=modes, mode_describer=describe, spectra=spectra, quasi_static=qs, flags=flags,
         info={"position_m": op.s, "on_arc": op.on_arc, "rail_window_start_m": op.s_win0,
               "n_dof_full": full.n, "n_dof": red.system.n,
               "time_operating_point_s": times[1] - times[0],

@@ -397,8 +397,9 @@ class WheelSamples:
     diff_acc, diff_wheel : numpy.ndarray
         (n/2, ·) central differences (f(h_i) − f(−h_i))/(2h_i) of the accelerations (1/s²)
         and wheel quantities along the path with respect to the irregularity (= −Δy).
-    sum_yaw, sum_rates : list of numpy.ndarray
-        Per pair g(h_i) + g(−h_i) of the creep columns (accelerations, wheel quantities).
+    sum_yaw, sum_rates : (numpy.ndarray, numpy.ndarray)
+        Per pair g(h_i) + g(−h_i) of the creep columns: (n/2, n, ·) accelerations and
+        (n/2, n_aux, ·) wheel quantities, one column for the yaw, six for the rates.
     """
 
     sigma_ref: float
@@ -406,9 +407,8 @@ class WheelSamples:
     prob: np.ndarray
     diff_acc: np.ndarray
     diff_wheel: np.ndarray
-    sum_yaw: list[tuple[np.ndarray, np.ndarray]]
-    sum_rates: list[tuple[np.ndarray, np.ndarray]]
-
+    sum_yaw: tuple[np.ndarray, np.ndarray]
+    sum_rates: tuple[np.ndarray, np.ndarray]
 
 
 #: A wheel's path is sampled at the σ of a fixed geometric ladder, SAMPLE_BASE·SAMPLE_RATIO^k.
@@ -453,7 +453,9 @@ def sample_wheel(lin: Linearisation, w: int, side: int, sigma: float) -> WheelSa
         yaw.append((p.yaw[0] + q.yaw[0], p.yaw[1] + q.yaw[1]))
         rates.append((p.rates[0] + q.rates[0], p.rates[1] + q.rates[1]))
     return WheelSamples(sigma, steps, wx[x > 0.0] / math.sqrt(math.pi), np.array(diff_a),
-                        np.array(diff_x), yaw, rates)
+                        np.array(diff_x), (np.array([y[0] for y in yaw]),
+                                           np.array([y[1] for y in yaw])),
+                        (np.array([r[0] for r in rates]), np.array([r[1] for r in rates])))
 
 
 def _gains(smp: WheelSamples, sigma: float) -> tuple[
@@ -468,11 +470,9 @@ def _gains(smp: WheelSamples, sigma: float) -> tuple[
     c = rho * h**2
     c /= c.sum()  # E[y·f]/σ² = Σ c_i·D(h_i) with Σ c_i = 1
     m = rho / (2.0 * rho.sum())  # E[g] = Σ m_i·(g(h_i) + g(−h_i))
-    yaw = tuple(sum(mi * y[k] for mi, y in zip(m, smp.sum_yaw, strict=True))
-                for k in range(2))
-    rates = tuple(sum(mi * r[k] for mi, r in zip(m, smp.sum_rates, strict=True))
-                  for k in range(2))
-    return (c @ smp.diff_acc, c @ smp.diff_wheel, (yaw[0], yaw[1]), (rates[0], rates[1]))
+    yaw = (np.tensordot(m, smp.sum_yaw[0], 1), np.tensordot(m, smp.sum_yaw[1], 1))
+    rates = (np.tensordot(m, smp.sum_rates[0], 1), np.tensordot(m, smp.sum_rates[1], 1))
+    return c @ smp.diff_acc, c @ smp.diff_wheel, yaw, rates
 
 
 @dataclass
