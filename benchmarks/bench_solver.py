@@ -5,21 +5,26 @@ Reference case: paper vehicle, rigid bodies, straight track, German high disturb
 wheel; the preset's own step is 6.25e-5 s, the benchmark keeps 1e-4 s so that the cost per step
 compares with earlier versions). Prints
 
-* compile time, cold (empty numba cache) and cached, measured in fresh processes;
-* peak resident memory of a rigid 10 s run in a fresh process (target ≤ 250 MiB);
+* compile time, cold (empty numba cache) and cached, measured in fresh processes (wall time
+  and the child's CPU time, user + sys: the CPU time is the figure to compare on a loaded
+  machine);
+* peak resident memory of a rigid 10 s run in a fresh process (target ≤ 250 MiB), as installed
+  (the image and ``pip install .`` have no ``coverage`` package; numba imports it at start-up
+  when it is there, as in the development environment, which adds about 11 MiB: printed too);
 * wall time per simulated second and per step (target ≤ 5 µs per step);
 * time per step split into vehicle / rail / contact force evaluation and the integrator update;
 * the same per step with the conical tread (``contact.geometry: conical``, one contact point
   and a flange spring per wheel) and the ratio profiles / conical (target ≤ 1.2×);
 * the cost per simulated second of a route 10× longer (100 s instead of 10 s).
 
-Usage: ``python benchmarks/bench_solver.py [--quick]``
+Usage: ``python benchmarks/bench_solver.py [--quick | --compile-only]``
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -35,7 +40,11 @@ TARGET_RSS_MIB = 250.0
 DT = {"solver.dt": 1.0e-4}
 
 
-def _fresh_process_time(cache_dir: str) -> float:
+def _fresh_process_time(cache_dir: str) -> tuple[float, float]:
+    """Wall time (s, measured in the child) and CPU time (s, user + sys of the child) of a fresh
+    process that imports flexride and runs the reference case for 0.01 s with the numba cache in
+    ``cache_dir`` (empty: everything compiled).
+    """
     code = (
         "import time; t=time.perf_counter();"
         "from flexride.scenario.presets import load_preset;"
@@ -44,19 +53,37 @@ def _fresh_process_time(cache_dir: str) -> float:
         "print(time.perf_counter()-t)"
     )
     env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
                          check=True)
-    return float(out.stdout.strip().splitlines()[-1])
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return float(out.stdout.strip().splitlines()[-1]), cpu
 
 
-def _peak_rss_mib(duration_s: float) -> float:
+def _print_compile_times() -> None:
+    """Cold (empty numba cache) and cached import + compile + 0.01 s run, fresh processes."""
+    with tempfile.TemporaryDirectory() as d:
+        cold, cold_cpu = _fresh_process_time(d)
+        cached, cached_cpu = _fresh_process_time(d)
+    print(f"import + compile + 0.01 s run, cold cache : {cold:7.2f} s wall, {cold_cpu:6.2f} s CPU")
+    print(f"import + compile + 0.01 s run, cached     : {cached:7.2f} s wall, "
+          f"{cached_cpu:6.2f} s CPU")
+    print(f"compile alone (cold − cached)             : {cold - cached:7.2f} s wall, "
+          f"{cold_cpu - cached_cpu:6.2f} s CPU")
+
+
+def _peak_rss_mib(duration_s: float, as_installed: bool = True) -> float:
     """Peak resident memory (MiB) of a fresh process that runs the reference case rigid for
-    ``duration_s`` (import, compiled kernels from the cache, run, no file written).
+    ``duration_s`` (import, compiled kernels from the cache, run, no file written);
+    ``as_installed``: without the development environment's ``coverage`` package (an entry of
+    None in ``sys.modules`` makes its import fail, as where it is not installed).
     """
     # The child reports its own peak (RUSAGE_SELF): RUSAGE_CHILDREN in this process is the
     # largest peak of every child waited for so far, the cold-compile child's included.
     code = (
-        "import resource;"
+        ("import sys; sys.modules['coverage'] = None;" if as_installed else "")
+        + "import resource;"
         "from flexride.scenario.presets import load_preset;"
         "from flexride.solver.simulate import simulate;"
         f"simulate(load_preset('paper-metro-random', {{'duration_s': {duration_s}, "
@@ -119,7 +146,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
                         help="skip the cold-compile and long-route runs; coarse flexible mesh")
+    parser.add_argument("--compile-only", action="store_true",
+                        help="only the cold and cached compile times (fresh processes)")
     args = parser.parse_args()
+    if args.compile_only:
+        print(f"flexride solver compile time — paper-metro-random; load average "
+              f"{os.getloadavg()[0]:.2f} (1 min)")
+        _print_compile_times()
+        return
 
     from flexride.scenario.presets import load_preset
     from flexride.solver.assemble import assemble
@@ -130,17 +164,14 @@ def main() -> None:
     print(f"machine: {os.cpu_count()} cores, numba {numba.__version__}, numpy {np.__version__}, "
           f"load average {os.getloadavg()[0]:.2f} (1 min)")
     if not args.quick:
-        with tempfile.TemporaryDirectory() as d:
-            cold = _fresh_process_time(d)
-            cached = _fresh_process_time(d)
-        print(f"import + compile + 0.01 s run, cold cache : {cold:7.2f} s")
-        print(f"import + compile + 0.01 s run, cached     : {cached:7.2f} s")
+        _print_compile_times()
 
     simulate(load_preset("paper-metro-random", {**DT, "duration_s": 0.05}))  # warm (compiled)
     rss = _peak_rss_mib(10.0)
     print(f"peak memory, rigid 10 s run (fresh process): {rss:7.1f} MiB  (target ≤ "
           f"{TARGET_RSS_MIB:.0f} MiB: {'met' if rss <= TARGET_RSS_MIB else 'MISSED'}, ratio "
-          f"{rss / TARGET_RSS_MIB:.2f})")
+          f"{rss / TARGET_RSS_MIB:.2f}); with the dev environment's coverage package "
+          f"{_peak_rss_mib(10.0, as_installed=False):.1f} MiB")
     runs = [simulate(load_preset("paper-metro-random", {**DT, "duration_s": 10.0}))
             for _ in range(3)]
     times = sorted(r.meta["wall_time_solve_s"] for r in runs)

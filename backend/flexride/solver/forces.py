@@ -29,6 +29,8 @@ per step not longer):
 from __future__ import annotations
 
 import math
+from types import FunctionType
+from typing import Any
 
 import numba
 import numpy as np
@@ -70,6 +72,25 @@ from flexride.solver.system import (
 )
 
 _FM = set(FASTMATH)
+#: Options of the kernels only ever called from other compiled functions: no CPython and C
+#: wrappers. A function of ``sys`` otherwise also compiles the unboxing of its 34 arrays and the
+#: named scalars, which costs more than a small function itself (cold compile of a first run
+#: about 2 s CPU less); the function's own code is the same. Called from Python such a function
+#: crashes the process: they are private (``_vehicle_forces``, …); the public names are the same
+#: functions compiled with the wrapper (:func:`_twin`), compiled only where used.
+_CALLED_FROM_KERNELS: dict[str, Any] = {"no_cpython_wrapper": True, "no_cfunc_wrapper": True}
+
+
+def _twin(name: str, fn: Any) -> Any:
+    """A copy of the Python function ``fn`` under ``name``, to compile a second time with other
+    options (its own entries in numba's cache, which are named after the function): the kernels
+    call ``_vehicle_forces`` (:data:`_CALLED_FROM_KERNELS`), Python and the benchmark
+    ``vehicle_forces``, the same code with the Python wrapper.
+    """
+    twin = FunctionType(fn.__code__, fn.__globals__, name, fn.__defaults__, fn.__closure__)
+    twin.__qualname__ = name
+    twin.__doc__ = fn.__doc__
+    return twin
 
 
 @numba.njit(cache=True, fastmath=_FM, inline="always")
@@ -151,7 +172,6 @@ def _axpy(alpha, x, y):
         y[j] += alpha * x[j]
 
 
-@numba.njit(cache=True, fastmath=_FM)
 def frame_specific_force(sys, s):
     """Specific force (m/s²) a body following the track frame at ``s`` needs: (lateral,
     vertical) components in the canted track frame, plus curvature rate terms.
@@ -173,12 +193,18 @@ def frame_specific_force(sys, s):
     return f_y, f_z, kap, roll, dk
 
 
-@numba.njit(cache=True, fastmath=_FM)
-def _marker_kinematics3(phi, p, nd, r0, X, V, o):
-    """Rows ``r0 … r0+2`` of a marker matrix (offset ``p`` in ``phi``, ``nd`` columns) applied to
-    the body's coordinates and velocities (offset ``o``) in one pass: (u0, u1, u2, v0, v1, v2).
+_frame_specific_force = numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)(
+    _twin("_frame_specific_force", frame_specific_force))
+frame_specific_force = numba.njit(cache=True, fastmath=_FM)(frame_specific_force)
+
+
+@numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)
+def _marker_kinematics3(phi, b0, nd, X, V, o):
+    """Three rows of a marker matrix (``nd`` columns, the first row at offset ``b0`` in ``phi``)
+    applied to the body's coordinates and velocities (offset ``o``) in one pass: (u0, u1, u2,
+    v0, v1, v2). The caller gives the offset, not a row number: numba would compile once per
+    literal row number.
     """
-    b0 = p + r0 * nd
     row0 = phi[b0:b0 + nd]
     row1 = phi[b0 + nd:b0 + 2 * nd]
     row2 = phi[b0 + 2 * nd:b0 + 3 * nd]
@@ -203,12 +229,12 @@ def _marker_kinematics3(phi, p, nd, r0, X, V, o):
     return u0, u1, u2, v0, v1, v2
 
 
-@numba.njit(cache=True, fastmath=_FM)
-def _marker_force3(phi, p, nd, r0, F, o, f0, f1, f2):
-    """Add the generalised force of marker forces (f0, f1, f2) on rows ``r0 … r0+2``:
-    F[o:o+nd] += Φ[r0:r0+3]ᵀ f, in one pass.
+@numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)
+def _marker_force3(phi, b0, nd, F, o, f0, f1, f2):
+    """Add the generalised force of marker forces (f0, f1, f2) on three rows of a marker matrix
+    (the first at offset ``b0`` in ``phi``, as :func:`_marker_kinematics3`):
+    F[o:o+nd] += Φ[rows]ᵀ f, in one pass.
     """
-    b0 = p + r0 * nd
     row0 = phi[b0:b0 + nd]
     row1 = phi[b0 + nd:b0 + 2 * nd]
     row2 = phi[b0 + 2 * nd:b0 + 3 * nd]
@@ -332,7 +358,6 @@ def _rotation_spring_forces(ua, ub, kc, speed, fo):
             -k5 * (ua2 - ub2 - dh) - c5 * (va2 - vb2 - speed * ddh))
 
 
-@numba.njit(cache=True, fastmath=_FM)
 def vehicle_forces(sys, X, V, s, F):
     """Inertial (track frame), gravity, elastic and suspension forces on the vehicle bodies.
 
@@ -351,7 +376,7 @@ def vehicle_forces(sys, X, V, s, F):
         o = sys.body_off[b]
         nd = sys.body_ndof[b]
         sb = s + sys.body_x[b]
-        f_y, f_z, kap, roll, dk = frame_specific_force(sys, sb)
+        f_y, f_z, kap, roll, dk = _frame_specific_force(sys, sb)
         heading, hint, droll = _line_values(sys.line, par.ln_s0, par.ln_ds, sb)
         _store_body_line(bl, b, heading, hint, roll, kap, droll)
         m = sys.body_mass[b]
@@ -381,21 +406,25 @@ def vehicle_forces(sys, X, V, s, F):
         pos_b = (sys.el_pb[e, 0], sys.el_pb[e, 1], sys.el_pb[e, 2])
         kc = _element_coefficients(sys.el_k, sys.el_c, e, 0)
         if _any_nonzero(kc):
-            ua = _marker_kinematics3(phi, pa, na, 0, X, V, oa)
-            ub = _marker_kinematics3(phi, pb, nbd, 0, X, V, ob)
+            ua = _marker_kinematics3(phi, pa, na, X, V, oa)
+            ub = _marker_kinematics3(phi, pb, nbd, X, V, ob)
             f0, f1, f2 = _translation_spring_forces(ua, ub, pos_b, kc, speed, fo)
-            _marker_force3(phi, pa, na, 0, F, oa, f0, f1, f2)
-            _marker_force3(phi, pb, nbd, 0, F, ob, -f0, -f1, -f2)
+            _marker_force3(phi, pa, na, F, oa, f0, f1, f2)
+            _marker_force3(phi, pb, nbd, F, ob, -f0, -f1, -f2)
         kc = _element_coefficients(sys.el_k, sys.el_c, e, 3)
         if _any_nonzero(kc):
-            ua = _marker_kinematics3(phi, pa, na, 3, X, V, oa)
-            ub = _marker_kinematics3(phi, pb, nbd, 3, X, V, ob)
+            ua = _marker_kinematics3(phi, pa + 3 * na, na, X, V, oa)
+            ub = _marker_kinematics3(phi, pb + 3 * nbd, nbd, X, V, ob)
             f0, f1, f2 = _rotation_spring_forces(ua, ub, kc, speed, fo)
-            _marker_force3(phi, pa, na, 3, F, oa, f0, f1, f2)
-            _marker_force3(phi, pb, nbd, 3, F, ob, -f0, -f1, -f2)
+            _marker_force3(phi, pa + 3 * na, na, F, oa, f0, f1, f2)
+            _marker_force3(phi, pb + 3 * nbd, nbd, F, ob, -f0, -f1, -f2)
 
 
-@numba.njit(cache=True, fastmath=_FM)
+_vehicle_forces = numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)(
+    _twin("_vehicle_forces", vehicle_forces))
+vehicle_forces = numba.njit(cache=True, fastmath=_FM)(vehicle_forces)
+
+
 def rail_forces(sys, X, V, F):
     """Beam and fastener forces of both rails, per mode (diagonal thanks to discrete
     orthogonality of sine modes at evenly spaced fasteners).
@@ -418,6 +447,11 @@ def rail_forces(sys, X, V, F):
             ffoot = -kyd * (qy + hf * qt) - cyd * (vy + hf * vt)
             F[oy + k] += -sys.rail_kyb[k] * qy + ffoot
             F[ot + k] += -(sys.rail_ktb[k] + krd) * qt - crd * vt + hf * ffoot
+
+
+_rail_forces = numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)(
+    _twin("_rail_forces", rail_forces))
+rail_forces = numba.njit(cache=True, fastmath=_FM)(rail_forces)
 
 
 @numba.njit(cache=True, fastmath=_FM, inline="always")
@@ -782,7 +816,6 @@ def _profile_wheel(ct2, par, X, V, cst, relax_dt, w, side, o, z_rail, z_irr, vy_
     return fwx, fwy, fwz, mx, my, mzz, n_sum, d_max, n_fl, angle
 
 
-@numba.njit(cache=True, fastmath=_FM)
 def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
     """Wheel–rail forces of every wheel, on the wheelsets and projected on the rail modes.
 
@@ -841,6 +874,11 @@ def contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt):
             _store_wheel_aux(aux, w, side, zr, yr - hh * tr, fw)
 
 
+_contact_forces = numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)(
+    _twin("_contact_forces", contact_forces))
+contact_forces = numba.njit(cache=True, fastmath=_FM)(contact_forces)
+
+
 @numba.njit(cache=True, fastmath=_FM)
 def evaluate(sys, X, V, s, s_win0, F, A, aux, sn, cst, relax_dt):
     """Generalised forces ``F`` and accelerations ``A = F / m`` at coordinates ``X``,
@@ -851,9 +889,9 @@ def evaluate(sys, X, V, s, s_win0, F, A, aux, sn, cst, relax_dt):
     n = F.shape[0]
     for i in range(n):
         F[i] = 0.0
-    vehicle_forces(sys, X, V, s, F)
-    rail_forces(sys, X, V, F)
-    contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt)
+    _vehicle_forces(sys, X, V, s, F)
+    _rail_forces(sys, X, V, F)
+    _contact_forces(sys, X, V, s, s_win0, F, aux, sn, cst, relax_dt)
     minv = sys.minv
     for i in range(n):
         A[i] = F[i] * minv[i]

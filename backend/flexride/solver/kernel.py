@@ -16,7 +16,7 @@ import math
 import numba
 
 from flexride._numba_env import FASTMATH
-from flexride.solver.forces import evaluate, frame_specific_force
+from flexride.solver.forces import _CALLED_FROM_KERNELS, _frame_specific_force, evaluate
 from flexride.solver.system import (
     AUX_ANGLE,
     AUX_FY,
@@ -66,8 +66,8 @@ def zhai_update(X, V, A, Ap, dt, psi, phi):
         Ap[i] = a
 
 
-@numba.njit(cache=True, fastmath=_FM)
-def shift_window(sys, X, V, Ap, nshift, u, q):
+@numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)
+def _shift_window(sys, X, V, Ap, nshift, u, q):
     """Move the rail window forward by ``nshift`` fastener bays.
 
     The modal state of each rail and direction is converted to values at the fasteners
@@ -98,7 +98,7 @@ def shift_window(sys, X, V, Ap, nshift, u, q):
                 arr[o + k] = acc * 2.0 / nb
 
 
-@numba.njit(cache=True, fastmath=_FM)
+@numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)
 def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
     par = sys.par
     k = int(tstate[T_NREC])
@@ -130,7 +130,7 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
         az = (vz - ptv[p, 1]) / tout
         ptv[p, 0] = vy
         ptv[p, 1] = vz
-        f_y, f_z, _, _, _ = frame_specific_force(sys, s + sys.body_x[b])
+        f_y, f_z, _, _, _ = _frame_specific_force(sys, s + sys.body_x[b])
         pscr[p, 0] = ay + f_y + rx * f_z
         pscr[p, 1] = az + f_z - rx * f_y - g
     for c in range(par.n_ch):
@@ -174,7 +174,7 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
     return True
 
 
-@numba.njit(cache=True, fastmath=_FM)
+@numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)
 def _check(sys, X, X0, info):
     """Return STATUS_OK, or a fault status with the offending coordinate in ``info[0]``."""
     n = X.shape[0]
@@ -249,7 +249,7 @@ def run_chunk(
         s = par.s_start + speed * t
         # move the rail window when the front wheelset nears its end
         if s + x_front - tstate[T_WIN_S0] > win_len - margin:
-            shift_window(sys, X, V, Ap, nshift, u, q)
+            _shift_window(sys, X, V, Ap, nshift, u, q)
             tstate[T_WIN_S0] += nshift * spacing
         evaluate(sys, X, V, s, tstate[T_WIN_S0], F, A, aux, sn, cst, dt)
         for w in range(nw):
