@@ -144,8 +144,9 @@ class LinearModel:
     static_wheel : dict
         ``normal_force`` (N) and ``rel_disp_y`` (m) per wheel at the steady state, the flange
         clearance (m, conical tread) and the contact model.
-    modes : Modes
-        Eigendecomposition of the state matrix.
+    mode_solver : callable
+        Makes :attr:`modes`, the eigendecomposition of the state matrix (on first use: a
+        sweep's local models, checked for stability by their eigenvalues alone, never need it).
     mode_describer : callable
         Makes :attr:`mode_info` (on first use: a sweep's local models are never described).
     spectra : TrackSpectra or None
@@ -181,7 +182,7 @@ class LinearModel:
     accelerations: OutputMap
     wheels: OutputMap
     static_wheel: dict[str, Any]
-    modes: Modes
+    mode_solver: Callable[[], Modes] = field(repr=False, compare=False)
     mode_describer: Callable[[], list[ModeInfo]] = field(repr=False, compare=False)
     spectra: TrackSpectra | None
     quasi_static: dict[str, dict[str, float]]
@@ -192,6 +193,11 @@ class LinearModel:
     quasi_linear: Any = field(default=None, repr=False, compare=False)
     modal_inputs: dict[tuple[bytes, bytes], tuple[Any, np.ndarray]] = field(
         default_factory=dict, repr=False, compare=False)
+
+    @functools.cached_property
+    def modes(self) -> Modes:
+        """Eigendecomposition of the state matrix."""
+        return self.mode_solver()
 
     @functools.cached_property
     def mode_info(self) -> list[ModeInfo]:
@@ -299,18 +305,19 @@ def _wheel_outputs(op: OperatingPoint, veh: VehicleModel, daux_dX: np.ndarray,
     return OutputMap(names, np.zeros((len(names), n)), Gm, np.array(D_rows)), static
 
 
-def _check_stable(modes: Modes, describe: Callable[[], list[ModeInfo]]) -> None:
-    """Refuse a linearised system with a growing mode (hunting above its critical speed);
-    ``describe`` names the modes.
+def _check_stable(lam: np.ndarray, modes: Callable[[], Modes],
+                  describe: Callable[[], list[ModeInfo]]) -> None:
+    """Refuse a linearised system with a growing mode (hunting above its critical speed):
+    ``lam`` its eigenvalues (1/s); ``modes`` and ``describe`` give the eigendecomposition and
+    the modes' names to say which one grows.
     """
-    bad = np.flatnonzero(modes.lam.real > UNSTABLE_RATE)
-    if bad.size:
-        k = int(bad[np.argmax(modes.lam.real[bad])])
-        label = describe()[k].label
+    if np.any(lam.real > UNSTABLE_RATE):
+        full = modes()
+        k = int(np.argmax(full.lam.real))
         raise LinearisationError(
-            f"the linearised system is unstable: a mode at {modes.damped_frequency_hz[k]:.2f} Hz "
-            f"({label}) grows at {modes.lam.real[k]:.3g} 1/s (hunting?); a stationary "
-            "response does not exist", "unstable")
+            f"the linearised system is unstable: a mode at {full.damped_frequency_hz[k]:.2f} Hz "
+            f"({describe()[k].label}) grows at {full.lam.real[k]:.3g} 1/s (hunting?); a "
+            "stationary response does not exist", "unstable")
 
 
 def linear_model(scenario: Scenario, track: TrackModel = "condensed", *,
@@ -384,7 +391,7 @@ def smooth_scenario(scenario: Scenario) -> Scenario:
 
 def model_from(scenario: Scenario, lin: Linearisation, track: TrackModel,
                spectra: TrackSpectra | None, flags: list[str], times: tuple[float, float],
-               previous: LinearModel | None = None) -> LinearModel:
+               previous: LinearModel | None = None, lazy_modes: bool = False) -> LinearModel:
     """The linear model of ``scenario`` from its linearisation: outputs, track reduction,
     eigenmodes and their names, the stability check.
 
@@ -405,6 +412,10 @@ def model_from(scenario: Scenario, lin: Linearisation, track: TrackModel,
     previous : LinearModel, optional
         The model of a scenario with the same rail rows and columns (parameter sweeps): its
         track condensation is reused when it fits.
+    lazy_modes : bool
+        Check the stability on the eigenvalues alone and solve the eigenvectors on first use
+        (a model that may never need them: a sweep's local model under the statistical
+        linearisation).
 
     Raises
     ------
@@ -418,19 +429,27 @@ def model_from(scenario: Scenario, lin: Linearisation, track: TrackModel,
     red: Reduced = reduce_track(full, lin.mass, int(op.sys.par.n_veh), track,
                                 previous.reduced if previous is not None else None)
     t2 = time.perf_counter()
-    modes = red.system.modes()
     names = [op.asm.dof_names[i] if i >= 0 else f"rail.head{-i}" for i in red.keep]
-    def describe() -> list[ModeInfo]:
-        return describe_modes(modes, red.mass, names, veh)
+    solved: list[Modes] = [] if lazy_modes else [red.system.modes()]
 
-    _check_stable(modes, describe)
+    def modes() -> Modes:
+        if not solved:
+            solved.append(red.system.modes())
+        return solved[0]
+
+    def describe() -> list[ModeInfo]:
+        return describe_modes(modes(), red.mass, names, veh)
+
+    lam = solved[0].lam if solved else np.linalg.eigvals(red.system.state_matrix())
+    _check_stable(lam, modes, describe)
     t3 = time.perf_counter()
     ws_x = np.array([veh.bodies[b].x_ref for b in veh.wheelsets])
     return LinearModel(
         scenario=scenario, track=track, system=red.system, dof_names=names,
         speed=float(scenario.speed_mps), wheelset_x=ws_x, points=list(veh.recorded),
         accelerations=red.outputs(acc), wheels=red.outputs(wheels), static_wheel=static,
-        modes=modes, mode_describer=describe, spectra=spectra, quasi_static=qs, flags=flags,
+        mode_solver=modes, mode_describer=describe, spectra=spectra, quasi_static=qs,
+        flags=flags,
         info={"position_m": op.s, "on_arc": op.on_arc, "rail_window_start_m": op.s_win0,
               "n_dof_full": full.n, "n_dof": red.system.n,
               "time_operating_point_s": times[1] - times[0],

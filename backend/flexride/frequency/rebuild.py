@@ -218,15 +218,16 @@ class ModelRebuilder:
         self.stats[_START_KINDS.get(op.chord_iterations, "warm_start")] += 1
         t1 = time.perf_counter()
         lin = self._linearise(op)
+        start = self._quasi.start(self._samples_hold) if self._quasi is not None else None
+        # warm-started, the local model serves the quasi-linear one and needs no eigenvectors
         model = model_from(scenario, lin, self.track, spectra, flags, (t0, t1),
-                           previous=self._previous)
+                           previous=self._previous, lazy_modes=start is not None)
         prev_red = self._previous.reduced if self._previous is not None else None
         if model.reduced is not None and prev_red is not None and (
                 model.reduced.condensation is prev_red.condensation
                 and prev_red.condensation is not None):
             self.stats["condensation_reused"] += 1
         self._remember(model, op)
-        start = self._quasi.start(self._samples_hold) if self._quasi is not None else None
         model = with_linearisation(model, self.linearisation, self.strict, start)
         if model.quasi_linear is not None and model.quasi_linear.applied:
             self._quasi = model.quasi_linear

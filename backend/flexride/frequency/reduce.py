@@ -145,9 +145,11 @@ class Condensation:
         if not self.interface_only(full, mass):
             return None
         v, r = slice(0, self.n_veh), slice(self.n_veh, full.n)
+        # the rail blocks as views: an adapted condensation serves one system (a quasi-linear
+        # iteration's), whose matrices are not changed afterwards
         return Condensation(self.n_veh, self.Qi, self.Tr, self.Lr, self.m_inv, self.mass,
                             _parts(full, mass, v, r, self.Tr, self.Lr, self.m_inv),
-                            *_rail_blocks(full, r), self.rail_mass)
+                            *_rail_blocks(full, r, copy=False), self.rail_mass)
 
 
 #: A change of the rail blocks counts as "in the interface" when what lies outside it is below
@@ -325,11 +327,14 @@ def _parts(full: SecondOrderSystem, mass: np.ndarray, v: slice, r: slice, Tr: np
     return parts
 
 
-def _rail_blocks(full: SecondOrderSystem, r: slice
+def _rail_blocks(full: SecondOrderSystem, r: slice, copy: bool = True
                  ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """Copies of the rail rows (K, C, B0, B1) and rail columns (K, C) of ``full``."""
-    rows = {name: getattr(full, name)[r].copy() for name in ("K", "C", "B0", "B1")}
-    cols = {name: getattr(full, name)[:, r].copy() for name in ("K", "C")}
+    """The rail rows (K, C, B0, B1) and rail columns (K, C) of ``full``: copies, or views."""
+    def take(a: np.ndarray) -> np.ndarray:
+        return a.copy() if copy else a
+
+    rows = {name: take(getattr(full, name)[r]) for name in ("K", "C", "B0", "B1")}
+    cols = {name: take(getattr(full, name)[:, r]) for name in ("K", "C")}
     return rows, cols
 
 
