@@ -210,15 +210,23 @@ def _modal_input(model: LinearModel, f: np.ndarray, rail_maps: np.ndarray) -> np
     w = 2.0 * np.pi * np.asarray(f, dtype=float)
     E = np.exp(-1j * np.outer(w, model.delays()))
     lv = modes.left[:, n:]
-    eta = np.zeros((w.size, nc * nk), dtype=complex)
+    eta: np.ndarray | None = None  # (n_f, nc·nk), built in place: these arrays are megabytes
     for k, B in enumerate((sys.B0, sys.B1, sys.B2)):
         if not np.any(B):
             continue
         a = np.einsum("kwr,cr->wck", (lv @ B).reshape(-1, nw, 4), rail_maps).reshape(nw, -1)
         term = E @ a
-        eta += term if k == 0 else (1j * w[:, None]) ** k * term
-    resolvent = 1.0 / (1j * w[:, None] - modes.lam[None, :])
-    return eta.reshape(w.size, nc, nk) * resolvent[:, None, :]
+        if k:
+            term *= (1j * w[:, None]) ** k
+        if eta is None:
+            eta = term
+        else:
+            eta += term
+    if eta is None:
+        eta = np.zeros((w.size, nc * nk), dtype=complex)
+    out = eta.reshape(w.size, nc, nk)
+    out *= (1.0 / (1j * w[:, None] - modes.lam[None, :]))[:, None, :]
+    return out
 
 
 def output_response(model: LinearModel, out: OutputMap, f: np.ndarray, rail_maps: np.ndarray,
