@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal, Self
+from collections.abc import Mapping
+from typing import Any, Literal, Self, TypeVar
 
 from pydantic import (
     AliasChoices,
@@ -49,6 +50,17 @@ class ParameterAxis(_Strict):
     values: list[Any] = Field(min_length=1, max_length=100)
 
 
+_Choice = TypeVar("_Choice", bound=str)
+
+
+def _choice(default: _Choice, labels: Mapping[_Choice, str], description: str) -> Any:
+    """A field of one of the keys of ``labels``, which the schema shows as ``x-enum-labels``
+    (the dashboard labels its choices with them).
+    """
+    return Field(default, description=description,
+                 json_schema_extra={"x-enum-labels": {str(k): v for k, v in labels.items()}})
+
+
 class StudyCreate(_Strict):
     """A study: a base scenario and the axes to vary; the job matrix is their product.
 
@@ -88,20 +100,18 @@ class StudyCreate(_Strict):
         "give each index as the mean with its 95 % confidence interval (Student t). Jobs "
         "without a random irregularity run once.",
     )
-    section: SectionRule = Field(
-        DEFAULT_SECTION_RULE, description="Stretch each job's indices are evaluated on: paper (the "
-        "report's rules: on a curve the circular arc, on straight track from 30 m on, a "
-        "settlement the whole run), curve (the whole curve with its transitions, otherwise as "
-        "paper) or run (the whole run). A section shorter than 6 s of the run falls back to "
-        "the whole run; the tables state each index's section.",
-        json_schema_extra={"x-enum-labels": {k: v for k, v in SECTION_RULE_LABELS.items()}})
-    cutoff: CutoffRule = Field(
-        DEFAULT_CUTOFF_RULE, description="Elastic-mode cut-off of flexible bodies: follow "
-        "(raise each job's cut-off to at least 1.5 × its highest excitation frequency "
+    section: SectionRule = _choice(
+        DEFAULT_SECTION_RULE, SECTION_RULE_LABELS, "Stretch each job's indices are evaluated "
+        "on: paper (the report's rules: on a curve the circular arc, on straight track from "
+        "30 m on, a settlement the whole run), curve (the whole curve with its transitions, "
+        "otherwise as paper) or run (the whole run). A section shorter than 6 s of the run "
+        "falls back to the whole run; the tables state each index's section.")
+    cutoff: CutoffRule = _choice(
+        DEFAULT_CUTOFF_RULE, CUTOFF_RULE_LABELS, "Elastic-mode cut-off of flexible bodies: "
+        "follow (raise each job's cut-off to at least 1.5 × its highest excitation frequency "
         "V/λ_min, rounded up to 10 Hz: 70 Hz for 0.5 m corrugation at 80 km/h) or as_given "
         "(the scenario's; a job that keeps fewer modes than its excitation drives says so "
-        "in its notes)",
-        json_schema_extra={"x-enum-labels": {k: v for k, v in CUTOFF_RULE_LABELS.items()}})
+        "in its notes)")
     quick: bool | None = Field(
         None, description="paper-report preset only: the shortened study of `flexride paper "
         "report --quick` (2 speeds, 1/4 of every evaluated stretch)")
