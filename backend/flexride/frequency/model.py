@@ -430,17 +430,12 @@ def model_from(scenario: Scenario, lin: Linearisation, track: TrackModel,
                                 previous.reduced if previous is not None else None)
     t2 = time.perf_counter()
     names = [op.asm.dof_names[i] if i >= 0 else f"rail.head{-i}" for i in red.keep]
-    solved: list[Modes] = [] if lazy_modes else [red.system.modes()]
-
-    def modes() -> Modes:
-        if not solved:
-            solved.append(red.system.modes())
-        return solved[0]
+    modes = functools.cache(red.system.modes)
 
     def describe() -> list[ModeInfo]:
         return describe_modes(modes(), red.mass, names, veh)
 
-    lam = solved[0].lam if solved else np.linalg.eigvals(red.system.state_matrix())
+    lam = np.linalg.eigvals(red.system.state_matrix()) if lazy_modes else modes().lam
     _check_stable(lam, modes, describe)
     t3 = time.perf_counter()
     ws_x = np.array([veh.bodies[b].x_ref for b in veh.wheelsets])

@@ -238,8 +238,6 @@ class QuasiLinear:
         contact is from the local one.
     linearisation : Linearisation or None
         The statistical linearisation the model was reduced from (None when not applied).
-    warm : bool
-        Whether the iteration started from a previous sweep value (:class:`QuasiStart`).
     sigma_next : numpy.ndarray or None
         (n_ws, 2) the iteration's next σ (m): where a following sweep value starts.
     samples : PathSamples or None
@@ -256,9 +254,15 @@ class QuasiLinear:
     history: list[float] = field(default_factory=list)
     lateral_gain: dict[str, float] = field(default_factory=dict)
     linearisation: Linearisation | None = field(default=None, repr=False, compare=False)
-    warm: bool = False
     sigma_next: np.ndarray | None = field(default=None, repr=False, compare=False)
     samples: PathSamples | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def warm(self) -> bool:
+        """Whether the iteration started from a previous sweep value (:class:`QuasiStart`):
+        it then had no local σ.
+        """
+        return self.applied and self.sigma_local is None
 
     def start(self, samples_hold: bool) -> QuasiStart | None:
         """Where the iteration of a following sweep value starts: this σ, and these path
@@ -289,11 +293,20 @@ class QuasiLinear:
                 f"displacement on the rail at the response's own σ ({state})")
 
 
+#: The wheel channel whose σ the gains are made at (the lateral displacement on the rail head).
+SIGMA_CHANNEL = ".rel_disp.y"
+
+
+def _sigma_channels(names: list[str]) -> list[str]:
+    """The ``<wheelset>.<side>`` + :data:`SIGMA_CHANNEL` channels of ``names``, in order."""
+    return [n for n in names if n.endswith(SIGMA_CHANNEL)]
+
+
 def wheel_sigma(names: list[str], variance: np.ndarray, n_ws: int) -> np.ndarray:
     """(n_ws, 2) σ of each wheel's ``rel_disp.y`` (m) from the wheel channels' variances,
     in the order of :attr:`LinearModel.wheels` (per wheelset left, right).
     """
-    rows = [i for i, name in enumerate(names) if name.endswith(".rel_disp.y")]
+    rows = [names.index(n) for n in _sigma_channels(names)]
     return np.sqrt(np.maximum(variance[rows], 0.0)).reshape(n_ws, 2)
 
 
@@ -301,7 +314,7 @@ def _response_sigma(model: LinearModel) -> np.ndarray:
     """σ of every wheel's lateral displacement relative to the rail in ``model``'s response
     (m), as :func:`~flexride.frequency.comfort` computes it for the flags.
     """
-    names = [n for n in model.wheels.names if n.endswith(".rel_disp.y")]
+    names = _sigma_channels(model.wheels.names)
     return wheel_sigma(names, wheel_variance(model, names), len(model.wheelset_x))
 
 
@@ -458,21 +471,20 @@ def sample_wheel(lin: Linearisation, w: int, side: int, sigma: float) -> WheelSa
                         (np.array([r[0] for r in rates]), np.array([r[1] for r in rates])))
 
 
-def _gains(smp: WheelSamples, sigma: float) -> tuple[
-        np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+def _gains(smp: WheelSamples, sigma: float) -> tuple[np.ndarray, ...]:
     """Gaussian-equivalent derivative along the path (E[y·f]/σ², accelerations and wheel
     quantities) and Gaussian means of the creep columns at ``sigma`` (m), from the samples:
     the pairs' probabilities reweighted by p_σ/p_ref and normalised so that a linear
-    function gets its slope and a constant its value.
+    function gets its slope and a constant its value. In this order: the derivative's
+    accelerations and wheel quantities, then the same of the yaw column and of the six rates.
     """
     h, s0 = smp.steps, smp.sigma_ref
     rho = smp.prob * np.exp(-0.5 * h**2 * (1.0 / sigma**2 - 1.0 / s0**2))
     c = rho * h**2
     c /= c.sum()  # E[y·f]/σ² = Σ c_i·D(h_i) with Σ c_i = 1
     m = rho / (2.0 * rho.sum())  # E[g] = Σ m_i·(g(h_i) + g(−h_i))
-    yaw = (np.tensordot(m, smp.sum_yaw[0], 1), np.tensordot(m, smp.sum_yaw[1], 1))
-    rates = (np.tensordot(m, smp.sum_rates[0], 1), np.tensordot(m, smp.sum_rates[1], 1))
-    return c @ smp.diff_acc, c @ smp.diff_wheel, yaw, rates
+    means = [np.tensordot(m, a, 1) for a in (*smp.sum_yaw, *smp.sum_rates)]
+    return (c @ smp.diff_acc, c @ smp.diff_wheel, *means)
 
 
 @dataclass
@@ -485,27 +497,21 @@ class PathSamples:
     wheels: dict[tuple[int, int, int], WheelSamples] = field(default_factory=dict)
     creep0: dict[int, Any] = field(default_factory=dict)
 
-    def gains(self, lin: Linearisation, w: int, side: int, sigma: float) -> tuple[
-            np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
-        """The gains of wheel ``side`` of wheelset ``w`` at ``sigma`` (m) (:func:`_gains`),
-        blended from the two rungs of the sampling ladder around it (sampled when missing).
+    def gains(self, lin: Linearisation, w: int, side: int, sigma: float
+              ) -> tuple[np.ndarray, ...]:
+        """The gains of wheel ``side`` of wheelset ``w`` at ``sigma`` (m) (:func:`_gains`, in
+        its order), blended linearly in log σ from the two rungs of the sampling ladder around
+        it (sampled when missing).
         """
         k, t = ladder(sigma)
         lo, hi = (_gains(self._rung(lin, w, side, j), sigma) for j in (k, k + 1))
-        return (_blend(lo[0], hi[0], t), _blend(lo[1], hi[1], t),
-                (_blend(lo[2][0], hi[2][0], t), _blend(lo[2][1], hi[2][1], t)),
-                (_blend(lo[3][0], hi[3][0], t), _blend(lo[3][1], hi[3][1], t)))
+        return tuple((1.0 - t) * a + t * b for a, b in zip(lo, hi, strict=True))
 
     def _rung(self, lin: Linearisation, w: int, side: int, k: int) -> WheelSamples:
         """The wheel's samples at rung ``k``, sampled on first use."""
         if (w, side, k) not in self.wheels:
             self.wheels[w, side, k] = sample_wheel(lin, w, side, rung_sigma(k))
         return self.wheels[w, side, k]
-
-
-def _blend(a: np.ndarray, b: np.ndarray, t: float) -> np.ndarray:
-    """(1 − t)·a + t·b."""
-    return (1.0 - t) * a + t * b
 
 
 def statistical_linearisation(lin: Linearisation, sigma: np.ndarray,
@@ -544,7 +550,8 @@ def statistical_linearisation(lin: Linearisation, sigma: np.ndarray,
         for side in range(2):
             k = 4 * w + 2 + side
             row = (2 * w + side) * S.N_AUX
-            g_a, g_x, yaw, rates = samples.gains(lin, w, side, float(sigma[w, side]))
+            g_a, g_x, yaw_a, yaw_x, rate_a, rate_x = samples.gains(lin, w, side,
+                                                                   float(sigma[w, side]))
             d_a, d_x = g_a - lin.full.B0[:, k], g_x - lin.daux_du[:, k]
             grad = -lin.daux_dX[row + S.AUX_RAIL_Y].copy()
             grad[o + 1] += 1.0  # ∂Δy/∂X of this wheel
@@ -556,9 +563,9 @@ def statistical_linearisation(lin: Linearisation, sigma: np.ndarray,
             daux_du[:, k] += d_x
             # creep columns: the wheelset's yaw and velocities, and the rail heads' velocities
             # by the same change of the relative lateral and vertical velocity
-            K[:, o + 5] -= yaw[0][:, 0] - yaw0[0][:, 0]
-            daux_dX[:, o + 5] += yaw[1][:, 0] - yaw0[1][:, 0]
-            dv_a, dv_x = rates[0] - rates0[0], rates[1] - rates0[1]
+            K[:, o + 5] -= yaw_a[:, 0] - yaw0[0][:, 0]
+            daux_dX[:, o + 5] += yaw_x[:, 0] - yaw0[1][:, 0]
+            dv_a, dv_x = rate_a - rates0[0], rate_x - rates0[1]
             C[:, o:o + 6] -= dv_a
             daux_dV[:, o:o + 6] += dv_x
             for col, fld in ((1, S.AUX_RAIL_Y), (2, S.AUX_RAIL_Z)):
@@ -587,8 +594,7 @@ def _lateral_gains(lin: Linearisation, stat: Linearisation, names: list[str]
 
 def _sigma_dict(model: LinearModel, sigma: np.ndarray) -> dict[str, float]:
     """``<wheelset>.<side>`` → σ (m)."""
-    keys = [n.removesuffix(".rel_disp.y") for n in model.wheels.names
-            if n.endswith(".rel_disp.y")]
+    keys = [n.removesuffix(SIGMA_CHANNEL) for n in _sigma_channels(model.wheels.names)]
     return {k: float(v) for k, v in zip(keys, sigma.reshape(-1), strict=True)}
 
 
@@ -696,8 +702,7 @@ def quasi_linear_model(scenario: Scenario, local: LinearModel, spectra: TrackSpe
     ql = QuasiLinear("statistical", True, converged, len(history),
                      _sigma_dict(model, sigma_used),
                      _sigma_dict(model, sigma0) if sigma0 is not None else None, history,
-                     _lateral_gains(lin, stat, ws_names), stat, start is not None, sigma,
-                     samples)
+                     _lateral_gains(lin, stat, ws_names), stat, sigma, samples)
     if not converged:
         msg = (f"quasi-linearisation of the profile contact did not converge: σ of the "
                f"wheelsets' lateral motion still changed by {100 * history[-1]:.1f} % after "
