@@ -9,7 +9,6 @@ from flexride.scenario.scenario import Scenario
 
 #: Real profiles as a run with them is set up (flexride.scenario.presets.REAL_PROFILES), as
 #: keyword overrides of :func:`preset`
-PROFILES_DT = REAL_PROFILES["solver.dt"]
 PROFILES = {k.replace(".", "__"): v for k, v in REAL_PROFILES.items()}
 #: The conical tread of the first releases (flexride.scenario.presets.CONICAL_TREAD), as
 #: keyword overrides of :func:`preset`

@@ -95,7 +95,8 @@ def test_energy_of_free_vibration_is_conserved():
     constant within the integrator's (second-order) error."""
     zero_damping = {f"vehicle.{s}.{c}": 0.0 for s in ("primary", "secondary")
                     for c in ("cx", "cy", "cz")}
-    sc = preset(duration_s=1.0, **zero_damping, **{"solver.check_stability": False})
+    sc = preset(duration_s=1.0, **zero_damping, **{"solver.check_stability": False,
+                                                   "solver.dt": 1e-4})
     veh = build_vehicle(sc.vehicle, sc.output, carbody=beam_carbody(sc.vehicle, 6.0))
     asm = assemble(sc, vehicle=veh)
     asm.sys = asm.sys._replace(par=asm.sys.par._replace(gravity=0.0, mu=0.0, c_traction=0.0))

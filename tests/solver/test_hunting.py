@@ -8,8 +8,8 @@ import pytest
 
 from conftest import preset
 from flexride.solver.assemble import assemble
-from flexride.solver.simulate import integrate
-from flexride.solver.static import initial_window_start, static_equilibrium
+from flexride.solver.setup_cache import default_cache
+from flexride.solver.simulate import integrate, prepare_run
 
 
 def test_klingel_wavelength():
@@ -23,9 +23,8 @@ def test_klingel_wavelength():
         **{"vehicle.primary.kx": 1.0e3, "vehicle.primary.ky": 0.0,
            "vehicle.primary.cx": 0.0, "vehicle.primary.cy": 0.0},
     )
-    asm = assemble(sc)
-    s0 = initial_window_start(asm)
-    X0 = static_equilibrium(asm, 0.0, s0)
+    asm, ready = prepare_run(sc, assemble(sc), default_cache(), check=False)
+    X0 = ready.X0
     Xi = X0.copy()
     for w in asm.vehicle.wheelsets:
         Xi[asm.sys.body_off[w] + 1] = 0.003  # 3 mm lateral offset, inside the flange clearance

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from flexride.solver import step_map as sm
 from flexride.solver.kernel import zhai_update
-from flexride.solver.stability import critical_step, spectral_radius
+from flexride.solver.stability import LIMIT_MARGIN, point_limit
 
 
 def integrate_sdof(omega: float, zeta: float, dt: float, t_end: float, x0: float = 1.0):
@@ -51,19 +52,57 @@ def test_second_order_convergence():
     assert np.all(orders > 1.8), orders
 
 
+def oscillator_limit(omega: float, damping: float, psi: float = 0.5, phi: float = 0.5):
+    """The time-step check's limit (the same code as for a vehicle) of ẍ = −ω²x − c·ẋ."""
+    jac = sm.oscillator_jacobian(omega, damping)
+    return point_limit(lambda dt: jac, psi, phi, lambda shape: "x")
+
+
 def test_undamped_stability_limit_is_omega_dt_two():
     omega = 100.0
     stable = integrate_sdof(omega, 0.0, 1.98 / omega, 200 * 1.98 / omega)
     unstable = integrate_sdof(omega, 0.0, 2.02 / omega, 200 * 2.02 / omega)
     assert np.max(np.abs(stable)) < 10.0
     assert np.max(np.abs(unstable)) > 1e3
-    # the stability module's criterion agrees: critical ω·Δt = 2 for ψ = φ = ½
-    limit = critical_step(np.array([omega]), np.array([0.0]))[0] * omega
-    assert limit == pytest.approx(2.0, rel=1e-4)
-    assert spectral_radius(omega, 0.0, 1.9 / omega) <= 1.0 + 1e-12
+    # the time-step check agrees: critical ω·Δt = 2 for ψ = φ = ½, a period-two root (at a
+    # frequency whose limit lies below the checked range's ceiling)
+    omega = 1000.0
+    lim = oscillator_limit(omega, 0.0)
+    assert lim.kind == "period-two"
+    crossing = lim.dt_max / (1.0 - LIMIT_MARGIN)
+    assert crossing * omega == pytest.approx(2.0, rel=1e-3)
+    mu = np.linalg.eigvals(sm.one_step_map(sm.oscillator_jacobian(omega, 0.0), 1.9 / omega))
+    assert np.abs(mu).max() <= 1.0 + 1e-12
 
 
 def test_pure_damper_limit():
     """ẍ = −c·ẋ is stable for c·Δt ≤ 1 with ψ = φ = ½ (characteristic root −1 at c·Δt = 1)."""
-    c = 50.0
-    assert critical_step(np.array([0.0]), np.array([c]))[0] * c == pytest.approx(1.0, rel=1e-4)
+    c = 500.0
+    crossing = oscillator_limit(0.0, c).dt_max / (1.0 - LIMIT_MARGIN)
+    assert crossing * c == pytest.approx(1.0, rel=1e-3)
+
+
+@pytest.mark.parametrize(("omega", "zeta"), [(300.0, 0.05), (300.0, 0.6), (50.0, 3.0)])
+def test_damped_oscillator_limit_is_where_the_kernel_update_grows(omega, zeta):
+    """The check's limit of a damped oscillator against the kernel's own update run at 0.99
+    and 1.01 of it (bounded, growing)."""
+    c = 2.0 * zeta * omega
+    dt = oscillator_limit(omega, c).dt_max / (1.0 - LIMIT_MARGIN)
+    x_in = integrate_damped(omega, c, 0.99 * dt, 20000)
+    x_out = integrate_damped(omega, c, 1.01 * dt, 20000)
+    assert np.max(np.abs(x_in[-1000:])) <= 1.0
+    grown = x_out[-1000:]
+    assert not np.all(np.isfinite(grown)) or np.max(np.abs(grown)) > 10.0
+
+
+def integrate_damped(omega: float, c: float, dt: float, n: int) -> np.ndarray:
+    """ẍ = −ω²x − c·ẋ from x = 1 with the kernel's update, ``n`` steps (ψ = φ = ½)."""
+    X, V = np.array([1.0]), np.array([0.0])
+    A = np.array([-(omega**2)])
+    Ap = A.copy()
+    xs = np.empty(n)
+    for i in range(n):
+        zhai_update(X, V, A, Ap, dt, 0.5, 0.5)
+        A[0] = -(omega**2) * X[0] - c * V[0]
+        xs[i] = X[0]
+    return xs

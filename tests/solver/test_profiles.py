@@ -11,8 +11,8 @@ import pytest
 from conftest import PROFILES, preset
 from flexride.contact.conicity import equivalent_conicity
 from flexride.solver.assemble import assemble
-from flexride.solver.simulate import integrate, simulate
-from flexride.solver.static import initial_window_start, static_equilibrium
+from flexride.solver.setup_cache import default_cache
+from flexride.solver.simulate import integrate, prepare_run, simulate
 
 
 def _crossings(s, y):
@@ -29,11 +29,10 @@ def test_kinematic_wavelength_matches_klingel_with_equivalent_conicity():
     sc = preset("paper-metro", speed_kmh=18.0, duration_s=4.5, **PROFILES,
                 **{"vehicle.primary.kx": 1.0e3, "vehicle.primary.ky": 0.0,
                    "vehicle.primary.cx": 0.0, "vehicle.primary.cy": 0.0})
-    asm = assemble(sc)
+    asm, ready = prepare_run(sc, assemble(sc), default_cache(), check=False)
     table = asm.profiles
     assert table is not None
-    s0 = initial_window_start(asm)
-    X0 = static_equilibrium(asm, 0.0, s0)
+    X0 = ready.X0
     Xi = X0.copy()
     for w in asm.vehicle.wheelsets:
         Xi[asm.sys.body_off[w] + 1] = 0.003

@@ -9,7 +9,8 @@ from conftest import preset
 from flexride.errors import SimulationCancelled, SimulationError
 from flexride.solver.assemble import assemble, output_rate_for
 from flexride.solver.linearise import jacobian
-from flexride.solver.simulate import integrate, simulate
+from flexride.solver.setup_cache import default_cache
+from flexride.solver.simulate import integrate, prepare_run, simulate
 from flexride.solver.static import initial_window_start, static_equilibrium
 
 
@@ -36,8 +37,8 @@ def test_cancel_stops_between_chunks():
 def test_divergence_names_time_and_coordinate():
     """Start a wheelset 2 m off the track: the runaway check stops the run at once."""
     sc = preset(duration_s=0.5, **{"solver.runaway_displacement_m": 0.5})
-    asm = assemble(sc)
-    X0 = static_equilibrium(asm, 0.0, initial_window_start(asm))
+    asm, ready = prepare_run(sc, assemble(sc), default_cache(), check=False)
+    X0 = ready.X0
     Xi = X0.copy()
     Xi[asm.sys.body_off[3] + 1] = 2.0
     with pytest.raises(SimulationError, match=r"diverged at t = .* wheelset1\.y"):
@@ -46,8 +47,8 @@ def test_divergence_names_time_and_coordinate():
 
 def test_nan_is_detected():
     sc = preset(duration_s=0.1)
-    asm = assemble(sc)
-    X0 = static_equilibrium(asm, 0.0, initial_window_start(asm))
+    asm, ready = prepare_run(sc, assemble(sc), default_cache(), check=False)
+    X0 = ready.X0
     Xi = X0.copy()
     Xi[asm.sys.body_off[0] + 2] = np.nan
     # the NaN spreads through the coupling within a step; the message names the time and the
@@ -61,8 +62,11 @@ def test_output_rate_rule():
     assert output_rate_for(preset()) == 1000.0
     # 50 mm corrugation at 80 km/h: 444 Hz passing frequency → ≥ 20 samples per period
     sc = preset(excitation=[{"kind": "corrugation", "wavelength_m": 0.05, "depth_m": 1e-4}])
-    rate = output_rate_for(sc)
-    assert rate >= 20 * (80 / 3.6) / 0.05 and (1 / sc.solver.dt) % rate == 0
+    rate = output_rate_for(sc)  # solver.dt auto: the step will divide the interval
+    assert rate == pytest.approx(20 * (80 / 3.6) / 0.05)
+    fixed = preset(excitation=sc.model_dump()["excitation"], **{"solver.dt": 5e-5})
+    rate = output_rate_for(fixed)
+    assert rate >= 20 * (80 / 3.6) / 0.05 and (1 / fixed.solver.dt) % rate == 0
 
 
 def _roll_frequency(sc):

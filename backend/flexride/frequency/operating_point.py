@@ -14,27 +14,26 @@ is listed in ``docs/analysis.md``.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
 
+from flexride.errors import SimulationError
 from flexride.frequency.errors import LinearisationError
 from flexride.scenario.line import CurvedLine
 from flexride.scenario.scenario import Scenario
 from flexride.solver import system as S
 from flexride.solver.assemble import Assembly
 from flexride.solver.forces import evaluate
-from flexride.solver.linearise import accelerations, jacobian, workspace
+from flexride.solver.linearise import accelerations, workspace
 from flexride.solver.static import initial_window_start, static_equilibrium
+from flexride.solver.steady import smooth_assembly, steady_unknowns
+from flexride.solver.steady import steady_state as solver_steady_state
 
-#: Grid step of the (zero) irregularity table of the linearisation (m).
-IRR_GRID_STEP = 0.05
-#: Newton tolerance of the steady state: largest coordinate step (m, rad, m/s).
-STEADY_TOL = 1e-10
 #: A warm start (chord iterations) stops at this largest step (m, rad, m/s): far below
-#: STEADY_TOL, so that it lands on the root a cold Newton solution finds, to rounding.
+#: :data:`~flexride.solver.steady.STEADY_TOL`, so that it lands on the root a cold Newton
+#: solution finds, to rounding.
 CHORD_TOL = 1e-13
 #: Chord iterations before a warm start gives up (Newton from the previous state follows).
 CHORD_MAX_ITER = 30
@@ -121,7 +120,7 @@ def warm_start(op: OperatingPoint, dA_dX: np.ndarray, dA_dV: np.ndarray) -> Warm
     dA_dX, dA_dV : numpy.ndarray
         (n, n) ∂A/∂X (1/s²) and ∂A/∂V (1/s) there, as the linear model has them.
     """
-    keep, spin = _steady_unknowns(op.asm)
+    keep, spin = steady_unknowns(op.asm)
     scale = 1.0 / op.sys.minv
     J = np.hstack([dA_dX[:, keep], dA_dV[:, spin]]) * scale[:, None]
     return WarmStart(op.X0.copy(), op.V0.copy(), op.s, op.s_win0, sla.lu_factor(J))
@@ -150,30 +149,6 @@ def linearisation_position(scenario: Scenario, asm: Assembly) -> tuple[float, bo
     return line.start_m + line.entry_transition_m + 0.5 * line.arc_length_m, True
 
 
-def smooth_assembly(asm: Assembly, s: float) -> Assembly:
-    """``asm`` with a zero irregularity table covering the vehicle at position ``s`` (m)."""
-    ws_x = np.array([asm.vehicle.bodies[i].x_ref for i in asm.vehicle.wheelsets])
-    s0 = s + float(ws_x.min()) - 5.0
-    n = int(np.ceil((float(ws_x.max() - ws_x.min()) + 10.0) / IRR_GRID_STEP)) + 1
-    par = asm.sys.par._replace(irr_s0=s0, irr_ds=IRR_GRID_STEP)
-    sys0 = asm.sys._replace(par=par, irr=np.zeros((4, n)))
-    return dataclasses.replace(asm, sys=sys0)
-
-
-def _spin_indices(asm: Assembly) -> np.ndarray:
-    """State indices of the wheelsets' spin perturbation (their pitch coordinate)."""
-    sys = asm.sys
-    return np.array([int(sys.body_off[b]) + 4 for b in asm.vehicle.wheelsets], dtype=np.int64)
-
-
-def _steady_unknowns(asm: Assembly) -> tuple[np.ndarray, np.ndarray]:
-    """State indices solved for as coordinates (all but the spin angles) and as velocities
-    (the spin rates) in the steady state.
-    """
-    spin = _spin_indices(asm)
-    return np.setdiff1d(np.arange(asm.sys.minv.shape[0]), spin), spin
-
-
 def chord_steady_state(asm: Assembly, s: float, s_win0: float, warm: WarmStart
                        ) -> tuple[np.ndarray, np.ndarray, int] | None:
     """The steady state at ``s`` by chord iterations from ``warm`` (its Newton matrix kept):
@@ -196,7 +171,7 @@ def chord_steady_state(asm: Assembly, s: float, s_win0: float, warm: WarmStart
         it took, or None when the steps stop shrinking or :data:`CHORD_MAX_ITER` is reached.
     """
     sys = asm.sys
-    keep, spin = _steady_unknowns(asm)
+    keep, spin = steady_unknowns(asm)
     scale = 1.0 / sys.minv
     X, V = warm.X.copy(), warm.V.copy()
     last = np.inf
@@ -218,48 +193,13 @@ def chord_steady_state(asm: Assembly, s: float, s_win0: float, warm: WarmStart
 
 def steady_state(asm: Assembly, s: float, s_win0: float, X: np.ndarray,
                  max_iter: int = 30) -> tuple[np.ndarray, np.ndarray]:
-    """Steady state at ``s``: every acceleration zero, solved for all coordinates but the spin
-    angles (which no force depends on) and for the spin rates (which balance the longitudinal
-    creep forces in a curve). Newton with finite-difference Jacobians, from ``X``.
-
-    Returns
-    -------
-    X, V : numpy.ndarray
-        Coordinates (m, rad) and velocities (m/s, rad/s; only the spin rates are not zero).
-
-    Raises
-    ------
-    LinearisationError
-        Newton does not converge.
+    """:func:`flexride.solver.steady.steady_state`, its failure as a
+    :class:`LinearisationError`.
     """
-    sys = asm.sys
-    n = X.shape[0]
-    spin = _spin_indices(asm)
-    keep = np.setdiff1d(np.arange(n), spin)
-    V = np.zeros(n)
-    scale = 1.0 / sys.minv
-    res = np.inf
-    for _ in range(max_iter):
-        r = accelerations(sys, X, V, s, s_win0) * scale
-        res = float(np.linalg.norm(r))
-        J = np.hstack([jacobian(sys, X, V, s, s_win0, keep),
-                       jacobian(sys, X, V, s, s_win0, spin, wrt_velocity=True)])
-        dz = np.linalg.solve(J * scale[:, None], -r)
-        lam = 1.0
-        for _ls in range(20):
-            Xt, Vt = X.copy(), V.copy()
-            Xt[keep] += lam * dz[: keep.size]
-            Vt[spin] += lam * dz[keep.size:]
-            rt = accelerations(sys, Xt, Vt, s, s_win0) * scale
-            if np.linalg.norm(rt) < res or lam < 1e-3:
-                break
-            lam *= 0.5
-        X, V = Xt, Vt
-        if np.max(np.abs(lam * dz)) < STEADY_TOL:
-            return X, V
-    raise LinearisationError(
-        f"no steady state found at s = {s:g} m (residual {res:.3g} N after {max_iter} Newton "
-        "steps); use the time-domain solver", "equilibrium")
+    try:
+        return solver_steady_state(asm, s, s_win0, X, max_iter)
+    except SimulationError as exc:
+        raise LinearisationError(f"{exc}; use the time-domain solver", "equilibrium") from None
 
 
 def wheel_state(asm: Assembly, X: np.ndarray, V: np.ndarray, s: float,

@@ -13,9 +13,10 @@ give is filled with typical B-type metro values, stated here and in ``docs/model
   vertical and the lateral direction;
 * wheel–rail profiles: S1002 wheels (EN 13715) on 60E1 rails (EN 13674-1) at 1:40, flange
   backs 1.36 m, as a substitute for the paper's LM tread and CHN60 rail, which are not openly
-  published (users load theirs from files); friction 0.3. The time step 1/16000 s is what the
-  profiles' stiffer tangential contact needs for a stable, converged response (:data:`PAPER_DT`,
-  docs/model.md); the conical tread of the first releases is :data:`CONICAL_TREAD`;
+  published (users load theirs from files); friction 0.3. The time step is ``auto`` (the
+  default): the solver chooses it from the stability limit of its one-step map
+  (:mod:`flexride.solver.stability`; 1/16000 s for these profiles); the conical tread of the
+  first releases is :data:`CONICAL_TREAD`;
 * German high-disturbance random irregularity, wavelengths 1–120 m, all four components;
 * corrugation: the paper prints "wavelength 0.5 mm, depth 1 mm", which is shorter than the
   contact patch and cannot be meant; read as 0.5 m wavelength, 1 mm depth (peak to peak);
@@ -62,17 +63,6 @@ PAPER_VEHICLE: dict[str, Any] = {
         "cz": 8.0e4,
     },
 }
-
-PAPER_DT = 1.0 / 16000.0
-"""Time step of the paper presets (s): sixteen steps per millisecond of output. With real
-profiles the discrete creep-relaxation law and Zhai's update make rail-torsion modes under the
-wheels unstable from about 8.0e-5 s (eigenvalues of the kernel's one-step map: |μ| = 1.15 at
-1/12000 s, 0.70 at 1/13000, 0.016 at 1/16000): at 1/12000 s a 6 kHz oscillation of the
-lateral creep force grows on a perfect track and saturates the creep, which lowered the
-car-body lateral response by 20–25 % for small irregularities (at the random presets'
-amplitude the real creepages mostly suppressed it: the rms agreed within 0.1 % with half the
-step). 1/16000 s is 0.79 of that limit (tools/studies/timestep_small_amplitude.py;
-tests/solver/test_convergence.py)."""
 
 PAPER_CONTACT: dict[str, Any] = {"geometry": "profiles", "flange_back_distance": 1.36}
 """Contact of the paper presets: S1002 on 60E1 at 1:40 (the contact defaults) with the EN
@@ -144,7 +134,6 @@ def paper_metro(**top_level: Any) -> dict[str, Any]:
         "line": {"kind": "straight"},
         "excitation": [],
         "contact": PAPER_CONTACT,
-        "solver": {"dt": PAPER_DT},
         "speed_kmh": 80.0,
         "duration_s": 10.0,
     }
@@ -182,15 +171,14 @@ def _all_presets() -> dict[str, dict[str, Any]]:
 
 PRESETS: dict[str, dict[str, Any]] = _all_presets()
 
-REAL_PROFILES: dict[str, Any] = {
-    **{f"contact.{k}": v for k, v in PAPER_CONTACT.items()}, "solver.dt": PAPER_DT}
+REAL_PROFILES: dict[str, Any] = {f"contact.{k}": v for k, v in PAPER_CONTACT.items()}
 """Overrides that set any scenario up with real profiles as the paper presets are: S1002 on
-60E1 at 1:40, the EN flange-back distance (m) and the time step (s)."""
+60E1 at 1:40 and the EN flange-back distance (m)."""
 
-CONICAL_TREAD: dict[str, Any] = {"contact.geometry": "conical", "solver.dt": 1.0e-4}
+CONICAL_TREAD: dict[str, Any] = {"contact.geometry": "conical"}
 """Overrides that run a paper preset with the conical tread of the first releases
-(equivalent conicity 0.05, flange contact as a spring beyond 8 mm) at its time step (s): for
-comparisons with the cone and with codes that use one."""
+(equivalent conicity 0.05, flange contact as a spring beyond 8 mm): for comparisons with the
+cone and with codes that use one."""
 
 
 def preset_dict(name: str, overrides: dict[str, Any] | None = None) -> dict[str, Any]:

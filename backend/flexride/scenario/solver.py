@@ -2,16 +2,29 @@
 
 from __future__ import annotations
 
+from typing import Annotated, Literal
+
 from pydantic import Field
 
 from flexride.scenario.base import Schema, quantity
+
+#: The value of ``solver.dt`` that lets the solver choose the step.
+AUTO = "auto"
+#: ``solver.dt: auto`` takes at most this fraction of the largest stable step.
+AUTO_FRACTION = 0.8
+#: A time step given as a number (s).
+FixedStep = Annotated[float, Field(gt=1.0e-7, le=1.0e-2)]
 
 
 class Solver(Schema):
     """Time integration and rail-model settings."""
 
-    dt: float = quantity(
-        1.0e-4, gt=1.0e-7, le=1.0e-2, description="Integration time step", unit="s"
+    dt: FixedStep | Literal["auto"] = quantity(
+        AUTO,
+        description=f"Integration time step; auto (the default): at most {AUTO_FRACTION:g} of "
+        "the largest step the solver's one-step map is stable for, dividing the output "
+        "interval",
+        unit="s",
     )
     psi: float = quantity(0.5, ge=0.0, le=1.0, description="Zhai integration parameter ψ", unit="-")
     phi: float = quantity(0.5, ge=0.0, le=1.0, description="Zhai integration parameter φ", unit="-")

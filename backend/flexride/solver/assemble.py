@@ -5,6 +5,7 @@ Runs once per scenario in NumPy; nothing here is in the time loop.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import MutableMapping
 from dataclasses import dataclass, field
 from typing import Any, Literal, NamedTuple
@@ -26,6 +27,10 @@ from flexride.track.rail import RailModel, build_rail_model
 from flexride.vehicle.topology import VehicleModel, build_vehicle
 
 RIGID_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
+#: A wheel force whose step-to-step change alternates in sign beyond this fraction of the
+#: static wheel load for :data:`~flexride.solver.system.CHATTER_STEPS` steps in a row stops
+#: the run (a period-two chatter of the integration, :func:`~flexride.solver.kernel.run_chunk`).
+CHATTER_LOAD_FRACTION = 0.01
 RAIL_DIRS = ("vertical", "lateral", "torsion")
 SIDES = ("left", "right")
 #: Speed below which creepages are referred to this value instead (m/s): keeps creep forces
@@ -56,13 +61,19 @@ class Assembly:
     #: the two-slot table of real profiles (``contact.geometry: profiles``), else None;
     #: ``contact`` is then its one-point table (rigid contact, jumping to the flange)
     profiles: ProfileContactTable | None = None
+    #: whether ``sys.par.dt`` is the run's step: False for ``solver.dt: auto`` until the
+    #: set-up has chosen it (:func:`with_step`); the kernel refuses to run before
+    step_chosen: bool = True
 
 
-def output_rate_for(scenario: Scenario) -> float:
+def output_rate_for(scenario: Scenario, dt: float | None = None) -> float:
     """Output sample rate (Hz): the user's, else max(1 kHz, 20 samples per shortest excitation
-    period V/λ_min), rounded so that it divides the step rate 1/dt.
+    period V/λ_min), rounded so that it divides the step rate 1/dt of the step ``dt`` (s;
+    default the scenario's). With ``solver.dt: auto`` and no ``dt`` the rate is as wanted: the
+    step is then chosen to divide the output interval
+    (:func:`~flexride.solver.stability.auto_step`).
     """
-    step_rate = 1.0 / scenario.solver.dt
+    step = scenario.solver.dt if dt is None else dt
     wanted = scenario.output.rate_hz
     if wanted is None:
         lam_min = np.inf
@@ -73,8 +84,35 @@ def output_rate_for(scenario: Scenario) -> float:
         wanted = 1000.0
         if np.isfinite(lam_min):
             wanted = max(wanted, 20.0 * scenario.speed_mps / lam_min)
+    if isinstance(step, str):  # auto
+        return float(wanted)
+    step_rate = 1.0 / step
     ndec = max(1, int(np.floor(step_rate / wanted + 1e-9)))
     return step_rate / ndec
+
+
+def provisional_step(scenario: Scenario) -> float:
+    """The step (s) an assembly is made with: the scenario's, or for ``solver.dt: auto`` the
+    output interval until the set-up has chosen it (:func:`with_step`).
+    """
+    dt = scenario.solver.dt
+    return 1.0 / output_rate_for(scenario) if isinstance(dt, str) else float(dt)
+
+
+def step_layout(scenario: Scenario, dt: float) -> tuple[int, float, int]:
+    """Steps of the run, output rate (Hz) and steps per output sample for the step ``dt`` (s)."""
+    rate = output_rate_for(scenario, dt)
+    return round(scenario.duration / dt), rate, round(1.0 / (dt * rate))
+
+
+def with_step(asm: Assembly, scenario: Scenario, dt: float) -> Assembly:
+    """``asm`` running with the step ``dt`` (s): the kernel's step, decimation and number of
+    steps (nothing else of an assembly depends on the step).
+    """
+    n_steps, rate, n_dec = step_layout(scenario, dt)
+    par = asm.sys.par._replace(dt=float(dt), n_dec=int(n_dec))
+    return dataclasses.replace(asm, sys=asm.sys._replace(par=par), n_steps=n_steps,
+                               output_rate=rate, step_chosen=True)
 
 
 def _irregularity(scenario: Scenario, length: float, sources: MeasuredSources
@@ -534,7 +572,7 @@ def _scalars(scenario: Scenario, veh: VehicleModel, rail: RailModel, shift_bays:
     c = scenario.contact
     w_tr = 2.0 * np.pi * TRACTION_LINK_HZ
     return S.make_scalars(
-        dt=sol.dt,
+        dt=provisional_step(scenario),
         psi=sol.psi,
         phi=sol.phi,
         speed=scenario.speed_mps,
@@ -556,6 +594,7 @@ def _scalars(scenario: Scenario, veh: VehicleModel, rail: RailModel, shift_bays:
         flange_clearance=c.flange_clearance,
         flange_k=c.flange_stiffness if contact.profiles is None else 0.0,
         runaway=sol.runaway_displacement_m,
+        chatter_force=CHATTER_LOAD_FRACTION * veh.total_mass * GRAVITY / (2 * len(veh.wheelsets)),
         v_min=CREEP_MIN_SPEED,
         ct_y0=contact.ct_grid[0],
         ct_dy=contact.ct_grid[1],
@@ -719,9 +758,8 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
     contact = _kept_contact(scenario, veh, sources, contact_tables)
     line, irr = _route(scenario, veh, sources)
 
-    n_steps = round(scenario.duration / scenario.solver.dt)
-    rate = output_rate_for(scenario)
-    n_dec = round(1.0 / (scenario.solver.dt * rate))
+    dt = provisional_step(scenario)
+    n_steps, rate, n_dec = step_layout(scenario, dt)
     names, units, kinds = channel_layout(veh, profiles=contact.profiles is not None)
     dof_names, static_dofs = _dof_names(veh, dofs)
 
@@ -741,4 +779,5 @@ def assemble(scenario: Scenario, vehicle: VehicleModel | None = None,
         output_rate=rate,
         static_dofs=static_dofs,
         profiles=contact.profiles,
+        step_chosen=not isinstance(scenario.solver.dt, str),
     )

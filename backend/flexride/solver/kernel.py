@@ -4,6 +4,11 @@ function (DESIGN §3.5), over flat arrays, with no allocation inside.
 X_{n+1} = X_n + V_n Δt + (½ + ψ) A_n Δt² − ψ A_{n−1} Δt²
 V_{n+1} = V_n + (1 + φ) A_n Δt − φ A_{n−1} Δt          (first step: ψ = φ = 0)
 
+A watch (:func:`_watch`) stops a run whose wheel forces chatter from step to step — a
+period-two oscillation of the integration that a saturating creep force can hold without
+diverging, which the time-step check (:mod:`flexride.solver.stability`) cannot see when it
+comes from the nonlinearity.
+
 Outputs are decimated: accelerations of points are the mean over each output interval
 (velocity difference divided by the interval, an exact boxcar average that keeps aliasing
 down), wheel–rail forces are averaged over the interval, displacements are sampled.
@@ -35,16 +40,21 @@ from flexride.solver.system import (
     CH_WHEEL_FZ,
     CH_WHEEL_N,
     CH_WHEEL_N_FLANGE,
+    CHATTER_STEPS,
     T_FIRST,
     T_NREC,
     T_STEP,
     T_TIME,
     T_WIN_S0,
+    W_CHANGE,
+    W_COUNT,
+    W_CREEP_Y,
+    W_LAST,
 )
 
 _FM = set(FASTMATH)
 
-STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY, STATUS_FULL = 0, 1, 2, 3
+STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY, STATUS_FULL, STATUS_CHATTER = 0, 1, 2, 3, 4
 
 
 @numba.njit(cache=True, fastmath=_FM, inline="always")
@@ -174,6 +184,41 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
     return True
 
 
+@numba.njit(cache=True, fastmath=_FM, inline="always")
+def _watch_value(watch, w, sd, q, value, limit):
+    """Record one step of a watched force (N); return the steps in a row its change has
+    alternated in sign with a size beyond ``limit`` (N).
+    """
+    change = value - watch[w, sd, q, W_LAST]
+    if change * watch[w, sd, q, W_CHANGE] < 0.0 and abs(change) > limit:
+        watch[w, sd, q, W_COUNT] += 1.0
+    else:
+        watch[w, sd, q, W_COUNT] = 0.0
+    watch[w, sd, q, W_LAST] = value
+    watch[w, sd, q, W_CHANGE] = change
+    return watch[w, sd, q, W_COUNT]
+
+
+@numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)
+def _watch(sys, aux, cst, watch, info):
+    """Watch each wheel's lateral creep force (both slots) and normal force for a chatter:
+    STATUS_CHATTER after :data:`~flexride.solver.system.CHATTER_STEPS` steps in a row of
+    changes alternating in sign beyond ``chatter_force``, with ``info`` = (wheelset·2 + side,
+    quantity); STATUS_OK otherwise.
+    """
+    limit = sys.par.chatter_force
+    for w in range(sys.par.n_ws):
+        for sd in range(2):
+            creep_y = cst[w, sd, 1] + cst[w, sd, 4]
+            for q in range(2):
+                value = creep_y if q == W_CREEP_Y else aux[w, sd, AUX_N]
+                if _watch_value(watch, w, sd, q, value, limit) >= CHATTER_STEPS:
+                    info[0] = 2 * w + sd
+                    info[1] = q
+                    return STATUS_CHATTER
+    return STATUS_OK
+
+
 @numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)
 def _check(sys, X, X0, info):
     """Return STATUS_OK, or a fault status with the offending coordinate in ``info[0]``."""
@@ -215,11 +260,13 @@ def run_chunk(
     rec_t,
     rec_s,
     info,
+    watch,
 ):
     """Advance the system by up to ``n_steps`` steps of Zhai's method.
 
-    Returns a status code (STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY or STATUS_FULL when the
-    record buffer is full); ``tstate`` carries time, window start, step and record counters.
+    Returns a status code (STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY, STATUS_CHATTER, or
+    STATUS_FULL when the record buffer is full); ``tstate`` carries time, window start, step
+    and record counters, ``watch`` the state of :func:`_watch`.
     """
     par = sys.par
     dt = par.dt
@@ -252,6 +299,9 @@ def run_chunk(
             _shift_window(sys, X, V, Ap, nshift, u, q)
             tstate[T_WIN_S0] += nshift * spacing
         evaluate(sys, X, V, s, tstate[T_WIN_S0], F, A, aux, sn, cst, dt)
+        if _watch(sys, aux, cst, watch, info) != STATUS_OK:
+            tstate[T_STEP] += 1.0
+            return STATUS_CHATTER
         for w in range(nw):
             for sd in range(2):
                 facc[w, sd, 0] += aux[w, sd, AUX_FZ]

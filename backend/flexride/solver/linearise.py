@@ -79,3 +79,51 @@ def jacobian(
     state_jacobian_columns(sys, X.copy(), V.copy(), s, s_win0, wrt_velocity, h, cols, out,
                            out_aux)
     return out
+
+
+
+@numba.njit(cache=True)
+def step_jacobian_columns(sys, X, V, cst, s, s_win0, relax_dt, h_state, h_creep, out):
+    """Central differences of one force evaluation as the kernel makes it — the creep forces
+    relaxed over ``relax_dt`` (s) from the state ``cst`` — with respect to the coordinates,
+    the velocities and that creep state.
+
+    ``out`` has ``n + nc`` rows (the accelerations, then the new creep state, flattened) and
+    ``2n + nc`` columns (∂/∂X, ∂/∂V, ∂/∂cst); steps ``h_state`` (m, rad, m/s, rad/s) and
+    ``h_creep`` (N, N·m). ``X``, ``V`` and ``cst`` are left as given.
+    """
+    n = X.shape[0]
+    nw = sys.ws_body.shape[0]
+    nm = sys.rail_kap.shape[0]
+    nc = cst.size
+    F = np.zeros(n)
+    A = np.zeros((2, n))
+    aux = np.zeros((nw, 2, N_AUX))
+    sn = np.zeros(nm)
+    c0 = cst.copy()
+    cw = np.zeros((2, nw, 2, N_CST))
+    for col in range(2 * n + nc):
+        h = h_state if col < 2 * n else h_creep
+        for k in range(2):
+            d = h if k == 0 else -h
+            cw[k] = c0
+            if col < n:
+                old = X[col]
+                X[col] = old + d
+            elif col < 2 * n:
+                old = V[col - n]
+                V[col - n] = old + d
+            else:
+                old = 0.0
+                cw[k].reshape(nc)[col - 2 * n] += d
+            evaluate(sys, X, V, s, s_win0, F, A[k], aux, sn, cw[k], relax_dt)
+            if col < n:
+                X[col] = old
+            elif col < 2 * n:
+                V[col - n] = old
+        for i in range(n):
+            out[i, col] = (A[0, i] - A[1, i]) / (2.0 * h)
+        cp = cw[0].reshape(nc)
+        cm = cw[1].reshape(nc)
+        for i in range(nc):
+            out[n + i, col] = (cp[i] - cm[i]) / (2.0 * h)

@@ -58,11 +58,12 @@ DISK_ENTRIES = 2048
 NOT_READ: dict[str, frozenset[str]] = {
     "fields": frozenset({"body_line", "pt_body", "pt_phi", "ch_kind", "ch_a", "ch_b",
                          "irr", "line"}),
-    "par": frozenset({"dt", "n_dec", "n_points", "n_ch", "irr_s0", "irr_ds", "ln_s0", "ln_ds"}),
+    "par": frozenset({"dt", "n_dec", "n_points", "n_ch", "irr_s0", "irr_ds", "ln_s0", "ln_ds",
+                      "chatter_force"}),
 }
 """SystemArrays fields and scalars left out of the key: written before read (``body_line``),
-recording layout, the step, and the route tables and their grids (in the key through
-``route_inputs``)."""
+recording layout, the step, the run-time watch's threshold, and the route tables and their
+grids (in the key through ``route_inputs``)."""
 
 ENV = "FLEXRIDE_SETUP_CACHE"
 """``off``: compute every set-up; ``memory``: no files; anything else (default): both."""
@@ -123,9 +124,10 @@ def _hash_array(h: Any, name: str, a: np.ndarray) -> None:
     h.update(a.tobytes())
 
 
-def setup_key(asm: Assembly, s: float, s_win0: float) -> str:
+def setup_key(asm: Assembly, s: float, s_win0: float, curving: bool = False) -> str:
     """Content key of the set-up of ``asm`` at position ``s`` (m) with the rail window
-    starting at ``s_win0`` (m); see the module docs.
+    starting at ``s_win0`` (m), in static equilibrium or (``curving``) steady curving; see the
+    module docs.
     """
     from flexride import __version__
     from flexride.solver.forces import route_inputs
@@ -134,7 +136,8 @@ def setup_key(asm: Assembly, s: float, s_win0: float) -> str:
     h = hashlib.sha256()
     h.update(json.dumps({"format": SETUP_FORMAT, "flexride": __version__,
                          "source": _source_digest(), "s": repr(float(s)),
-                         "s_win0": repr(float(s_win0)), "asm": _assembly_inputs(asm)},
+                         "s_win0": repr(float(s_win0)), "asm": _assembly_inputs(asm),
+                         "curving": curving},
                         sort_keys=True).encode())
     par = {k: repr(v) for k, v in sysarr.par._asdict().items() if k not in NOT_READ["par"]}
     h.update(json.dumps(par, sort_keys=True).encode())
@@ -262,9 +265,10 @@ _DEFAULT = SetupCache()
 
 
 def run_setup(asm: Assembly, s: float, s_win0: float, stability: bool,
-              cache: SetupCache | None) -> Setup:
-    """Static equilibrium and (if ``stability``) the stability limit of ``asm`` at ``s`` (m),
-    from ``cache`` when known, else computed (and kept there).
+              cache: SetupCache | None, curving: bool = False) -> Setup:
+    """Static equilibrium — or with ``curving`` the steady curving state — and (if
+    ``stability``) the stability limit of ``asm`` at ``s`` (m), from ``cache`` when known, else
+    computed (and kept there).
 
     Parameters
     ----------
@@ -276,24 +280,39 @@ def run_setup(asm: Assembly, s: float, s_win0: float, stability: bool,
         Also estimate the stability limit.
     cache : SetupCache or None
         Where set-ups are kept; None computes without keeping.
+    curving : bool
+        The steady curving state (``asm`` on smooth track,
+        :func:`~flexride.solver.steady.smooth_assembly`) instead of the static equilibrium.
 
     Returns
     -------
     Setup
     """
     from flexride.solver.stability import stability_limit
-    from flexride.solver.static import static_equilibrium
 
-    key = setup_key(asm, s, s_win0) if cache is not None else ""
+    key = setup_key(asm, s, s_win0, curving) if cache is not None else ""
+    known = None
     if cache is not None:
         hit = cache.get(key, stability)
         if hit is not None:
             return hit
-        known = cache.get(key, False)
-        X0 = known.X0 if known is not None else static_equilibrium(asm, s, s_win0)
-    else:
-        X0 = static_equilibrium(asm, s, s_win0)
-    stab = stability_limit(asm, X0, s, s_win0) if stability else None
+        known = None if curving else cache.get(key, False)
+    X0, V0 = ((known.X0, np.zeros_like(known.X0)) if known is not None
+              else _state(asm, s, s_win0, curving))
+    stab = None
+    if stability:
+        point = f"steady curving at s = {s:g} m" if curving else "static equilibrium"
+        stab = stability_limit(asm, X0, s, s_win0, V0, point)
     if cache is not None:
         cache.put(key, X0, stab)
     return Setup(X0, stab, "computed")
+
+
+def _state(asm: Assembly, s: float, s_win0: float, curving: bool
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Coordinates (m, rad) and velocities (m/s, rad/s) of the set-up's state."""
+    from flexride.solver.static import static_equilibrium
+    from flexride.solver.steady import steady_state
+
+    X0 = static_equilibrium(asm, s, s_win0)
+    return steady_state(asm, s, s_win0, X0) if curving else (X0, np.zeros_like(X0))

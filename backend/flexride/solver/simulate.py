@@ -16,9 +16,12 @@ from flexride.errors import SimulationCancelled, SimulationError
 from flexride.results import Results
 from flexride.scenario.fidelity import cutoff_notes
 from flexride.scenario.scenario import Scenario
+from flexride.scenario.solver import AUTO
 from flexride.solver import system as S
-from flexride.solver.assemble import Assembly, assemble
+from flexride.solver.assemble import Assembly, assemble, output_rate_for, with_step
+from flexride.solver.estimate import check_steps
 from flexride.solver.kernel import (
+    STATUS_CHATTER,
     STATUS_FULL,
     STATUS_NONFINITE,
     STATUS_OK,
@@ -26,8 +29,9 @@ from flexride.solver.kernel import (
     run_chunk,
 )
 from flexride.solver.setup_cache import SetupCache, default_cache, run_setup
-from flexride.solver.stability import check_step
+from flexride.solver.stability import combine, curving_position, resolve_step
 from flexride.solver.static import initial_window_start
+from flexride.solver.steady import smooth_assembly
 from flexride.track.measured import LIBRARY, MeasuredSources
 from flexride.vehicle.topology import VehicleModel
 
@@ -75,11 +79,8 @@ def preflight(scenario: Scenario, vehicle: VehicleModel | None = None,
     """
     with small_dense_problems():
         asm = assemble(scenario, vehicle=vehicle, sources=sources, contact_tables=CONTACT_TABLES)
-        s_win0 = initial_window_start(asm, 0.0)
-        setup = run_setup(asm, 0.0, s_win0, True, _cache(setup_cache))
-        X0, stab = setup.X0, setup.stability
-        assert stab is not None  # asked for
-        check_step(stab, float(asm.sys.par.dt))
+        asm, ready = prepare_run(scenario, asm, _cache(setup_cache), check=True)
+    X0, stab, s_win0 = ready.X0, ready.stability, ready.s_win0
     return {"n_dof": int(X0.size), "n_steps": int(asm.n_steps), "output_rate": asm.output_rate,
             "stability": stab, "static_wheel_loads": _static_wheel_loads(asm, X0, s_win0)}
 
@@ -91,6 +92,7 @@ def simulate(
     vehicle: VehicleModel | None = None,
     sources: MeasuredSources = LIBRARY,
     setup_cache: Any = _DEFAULT,
+    max_steps: int | None = None,
 ) -> Results:
     """Simulate the vehicle running over the track of ``scenario``.
 
@@ -113,6 +115,9 @@ def simulate(
         Where the static equilibrium and the stability limit are kept by content
         (:mod:`flexride.solver.setup_cache`); default the process-wide cache
         (``$FLEXRIDE_SETUP_CACHE``), None computes them.
+    max_steps : int, optional
+        Refuse (:class:`~flexride.errors.ScenarioError`) a run of more steps, once the step is
+        known (the service's bound; ``solver.dt: auto`` chooses it in the set-up).
 
     Returns
     -------
@@ -133,17 +138,73 @@ def simulate(
     report(0.0, "assembling")
     with small_dense_problems():
         asm = assemble(scenario, vehicle=vehicle, sources=sources, contact_tables=CONTACT_TABLES)
-        s_win0 = initial_window_start(asm, 0.0)
         report(0.0, "static equilibrium and time-step check")
-        check = scenario.solver.check_stability
-        setup = run_setup(asm, 0.0, s_win0, check, _cache(setup_cache))
-        X0 = setup.X0
-        stab = check_step(setup.stability, float(asm.sys.par.dt)) if setup.stability else None
+        asm, ready = prepare_run(scenario, asm, _cache(setup_cache),
+                                 check=scenario.solver.check_stability)
+    if max_steps is not None:
+        check_steps(scenario, float(asm.sys.par.dt), max_steps)
     t_ready = time.perf_counter()
 
-    V0 = convected_rail_velocity(asm, X0)
-    return integrate(asm, X0, V0, scenario, report, cancel, stab, t_start, t_ready,
-                     setup_source=setup.source)
+    V0 = convected_rail_velocity(asm, ready.X0)
+    return integrate(asm, ready.X0, V0, scenario, report, cancel, ready.stability, t_start,
+                     t_ready, setup_source=ready.source)
+
+
+@dataclass(frozen=True)
+class ReadyRun:
+    """What a run starts from, once its set-up is done.
+
+    Attributes
+    ----------
+    X0 : numpy.ndarray
+        Static equilibrium where the run starts (m, rad).
+    s_win0 : float
+        Rail-window start at t = 0 (m).
+    stability : dict or None
+        The step's stability record (:func:`~flexride.solver.stability.resolve_step`: the
+        limit over the run's operating points, the step and its margin), None when neither
+        checked nor needed.
+    source : str
+        Where the static equilibrium came from (``computed``, ``memory``, ``disk``).
+    """
+
+    X0: np.ndarray
+    s_win0: float
+    stability: dict | None
+    source: str
+
+
+def prepare_run(scenario: Scenario, asm: Assembly, cache: SetupCache | None, check: bool
+                ) -> tuple[Assembly, ReadyRun]:
+    """The set-up of a run: static equilibrium, the time-step limit over the run's operating
+    points (:mod:`flexride.solver.stability`; when ``check`` or when ``solver.dt: auto`` needs
+    it) and the step; returns ``asm`` running with that step.
+
+    Raises
+    ------
+    StabilityError
+        A given step beyond the limit.
+    """
+    s_win0 = initial_window_start(asm, 0.0)
+    need = check or scenario.solver.dt == AUTO
+    setup = run_setup(asm, 0.0, s_win0, need, cache)
+    limit = None
+    if need:
+        assert setup.stability is not None  # asked for
+        limit = combine([setup.stability, *_curving_limits(scenario, asm, cache)])
+    dt, info = resolve_step(scenario, limit, 1.0 / output_rate_for(scenario))
+    return with_step(asm, scenario, dt), ReadyRun(setup.X0, s_win0, info, setup.source)
+
+
+def _curving_limits(scenario: Scenario, asm: Assembly, cache: SetupCache | None) -> list[dict]:
+    """The step limit in steady curving, where the run reaches a curve (else none)."""
+    s = curving_position(scenario, float(asm.sys.par.s_start))
+    if s is None:
+        return []
+    smooth = smooth_assembly(asm, s)
+    setup = run_setup(smooth, s, initial_window_start(smooth, s), True, cache, curving=True)
+    assert setup.stability is not None  # asked for
+    return [setup.stability]
 
 
 def _cache(setup_cache: Any) -> SetupCache | None:
@@ -200,6 +261,7 @@ class _Workspace:
     rec_t: np.ndarray
     rec_s: np.ndarray
     info: np.ndarray
+    watch: np.ndarray
 
 
 def _workspace(asm: Assembly, X0: np.ndarray, V0: np.ndarray, X_ref: np.ndarray,
@@ -251,6 +313,7 @@ def _workspace(asm: Assembly, X0: np.ndarray, V0: np.ndarray, X_ref: np.ndarray,
         rec_t=np.zeros(n_rec),
         rec_s=np.zeros(n_rec),
         info=np.zeros(2, dtype=np.int64),
+        watch=np.zeros((nw, 2, S.N_WATCH_Q, S.N_WATCH_F)),
     )
 
 
@@ -282,8 +345,24 @@ def _check_status(status: int, asm: Assembly, scenario: Scenario, ws: _Workspace
             f"the run diverged at t = {tstate[S.T_TIME]:.4f} s: coordinate {what} {kind}; "
             f"try a smaller solver.dt or check the parameters"
         )
+    if status == STATUS_CHATTER:
+        raise SimulationError(_chatter_message(asm, ws))
     if status not in (STATUS_OK, STATUS_FULL):
         raise SimulationError(f"kernel returned unknown status {status}")
+
+
+def _chatter_message(asm: Assembly, ws: _Workspace) -> str:
+    """What the run-time watch saw (:func:`~flexride.solver.kernel._watch`), in one line."""
+    w, side = divmod(int(ws.info[0]), 2)
+    q = int(ws.info[1])
+    wheelset = asm.vehicle.bodies[asm.vehicle.wheelsets[w]].name
+    what = "lateral creep force" if q == S.W_CREEP_Y else "normal force"
+    size = abs(float(ws.watch[w, side, q, S.W_CHANGE]))
+    dt = float(asm.sys.par.dt)
+    return (f"the run became numerically unstable at t = {ws.tstate[S.T_TIME]:.4f} s: the "
+            f"{what} of the {('left', 'right')[side]} wheel of {wheelset} alternated from step "
+            f"to step for {S.CHATTER_STEPS} steps (last change {size:.3g} N), a period-two "
+            f"chatter the step does not integrate; use solver.dt = {dt / 2:.3g} s")
 
 
 def _run_chunks(asm: Assembly, scenario: Scenario, ws: _Workspace, report: ProgressCallback,
@@ -335,6 +414,7 @@ def _run_chunks(asm: Assembly, scenario: Scenario, ws: _Workspace, report: Progr
             ws.rec_t,
             ws.rec_s,
             ws.info,
+            ws.watch,
         )
         done = int(tstate[S.T_STEP])
         _check_status(status, asm, scenario, ws)
@@ -403,6 +483,8 @@ def integrate(
     the static equilibrium and the stability limit came from, :class:`~flexride.solver.
     setup_cache.Setup`) goes into the metadata.
     """
+    if not asm.step_chosen:
+        raise ValueError("solver.dt: auto: choose the step first (prepare_run or with_step)")
     t_start = time.perf_counter() if t_start is None else t_start
     t_ready = time.perf_counter() if t_ready is None else t_ready
     s_win0 = initial_window_start(asm, 0.0)
@@ -423,7 +505,7 @@ def integrate(
     meta = {
         "speed_mps": scenario.speed_mps,
         "speed_kmh": scenario.speed_kmh,
-        "dt": scenario.solver.dt,
+        "dt": float(asm.sys.par.dt),
         "output_rate": asm.output_rate,
         "n_steps": done,
         "n_dof": int(X0.shape[0]),

@@ -1,153 +1,265 @@
-"""Stability limit of Zhai's explicit method for the linearised system.
+"""The time-step check of a run: the largest step for which the kernel's own one-step map
+is stable at the operating points the run meets, and the step ``solver.dt: auto`` takes.
 
-For the scalar test equation ẍ = −ω²x − c·ẋ the method is a linear map of
-(x_n, v_n, a_{n−1}); it is stable while the spectral radius of that 3 × 3 map is ≤ 1. The
-coupled system is linearised at static equilibrium (finite differences, creep damping at the
-running speed included), decomposed into the modes of its symmetric stiffness, and each mode's
-(ω, c) is checked with the scalar criterion. The smallest critical step is the estimate.
-Non-symmetric (creep, gyroscopic) coupling is not in the modal decomposition; a safety factor
-covers it.
+Operating points: the static equilibrium where the run starts and, on a curve the run reaches,
+the quasi-static curving position (steady state with its contact points, flange contact
+included) at the middle of the arc (:func:`curving_position`). A run has one speed, the lowest and highest at once; the creep damping it sets (∝ 1/V) is in
+the map.
+
+At each point the map's blocks are central differences of the kernel's force evaluation with
+the step's creep relaxation (:func:`kernel_blocks`) and the limit is found as
+:mod:`flexride.solver.step_map` describes: the first step at which an eigenvalue reaches −1,
+then the whole map's eigenvalues checked at the step returned. The limit of the run is the
+smallest over its points, :data:`LIMIT_MARGIN` below the crossing (the finite differences and
+the linearisation of a nonlinear contact).
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
 import numpy as np
 
 from flexride.errors import StabilityError
+from flexride.scenario.line import CurvedLine
+from flexride.scenario.scenario import Scenario
+from flexride.scenario.solver import AUTO, AUTO_FRACTION
+from flexride.solver import step_map as sm
 from flexride.solver.assemble import Assembly
-from flexride.solver.linearise import jacobian
-from flexride.solver.system import CT_CA
+from flexride.solver.forces import evaluate
+from flexride.solver.linearise import step_jacobian_columns, workspace
 
-#: The requested step must stay below this fraction of the estimated limit.
-SAFETY = 0.9
-
-
-def amplification_matrix(
-    omega: np.ndarray, c: np.ndarray, dt: np.ndarray | float, psi: float = 0.5, phi: float = 0.5
-) -> np.ndarray:
-    """Zhai's one-step map of (x, v, a_prev) for ẍ = −ω²x − c·ẋ, shape (..., 3, 3)."""
-    omega, c, dt = np.broadcast_arrays(
-        np.asarray(omega, float), np.asarray(c, float), np.asarray(dt, float)
-    )
-    w2 = omega**2
-    m = np.zeros((*omega.shape, 3, 3))
-    m[..., 0, 0] = 1.0 - (0.5 + psi) * dt**2 * w2
-    m[..., 0, 1] = dt - (0.5 + psi) * dt**2 * c
-    m[..., 0, 2] = -psi * dt**2
-    m[..., 1, 0] = -(1.0 + phi) * dt * w2
-    m[..., 1, 1] = 1.0 - (1.0 + phi) * dt * c
-    m[..., 1, 2] = -phi * dt
-    m[..., 2, 0] = -w2
-    m[..., 2, 1] = -c
-    return m
+#: The limit is this fraction below the first crossing of the unit circle.
+LIMIT_MARGIN = 0.005
+#: No step above this is considered (s): the schema's largest step.
+STEP_CEILING = 1.0e-2
+#: First trial step of the search (s); only the speed of the search depends on it.
+TRIAL_STEP = 1.0e-4
 
 
-def spectral_radius(omega, c, dt, psi: float = 0.5, phi: float = 0.5) -> np.ndarray:
-    """Spectral radius of :func:`amplification_matrix`."""
-    return np.abs(np.linalg.eigvals(amplification_matrix(omega, c, dt, psi, phi))).max(axis=-1)
+def kernel_blocks(asm: Assembly, X: np.ndarray, V: np.ndarray, s: float,
+                  s_win0: float) -> sm.BlocksAt:
+    """The blocks of the kernel's one-step map at (X, V) (m, rad; m/s, rad/s) with the vehicle
+    centre at ``s`` and the rail window at ``s_win0`` (m), as a function of the step (s).
 
-
-def critical_step(
-    omega: np.ndarray, c: np.ndarray, psi: float = 0.5, phi: float = 0.5, tol: float = 1e-6
-) -> np.ndarray:
-    """Largest stable step (s) per mode (ω in rad/s, c in 1/s), by bisection."""
-    omega = np.atleast_1d(np.asarray(omega, float))
-    c = np.atleast_1d(np.asarray(c, float))
-    rate = np.maximum(np.maximum(omega, c), 1e-12)
-    lo = np.zeros_like(rate)
-    hi = 8.0 / rate
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        ok = spectral_radius(omega, c, mid, psi, phi) <= 1.0 + 1e-9
-        lo = np.where(ok, mid, lo)
-        hi = np.where(ok, hi, mid)
-        if np.all(hi - lo <= tol * hi):
-            break
-    return lo
-
-
-def creep_relaxation_time(asm: Assembly) -> float:
-    """Relaxation time of the creep forces at the static wheel load, τ = a/V (s)."""
+    The creep state is the steady one at (X, V); creep states that nothing depends on (a slot
+    without contact, the unused second slot of the conical model) are left out.
+    """
     sys = asm.sys
-    n_wheels = 2 * len(asm.vehicle.wheelsets)
-    load = asm.vehicle.total_mass * sys.par.gravity / n_wheels
-    i0 = round(-sys.par.ct_y0 / (asm.contact.dy))
-    a = sys.ct[0, CT_CA, i0] * load ** (1.0 / 3.0)
-    return float(a / max(sys.par.speed, sys.par.v_min))
+    F, A, aux, sn, cst = workspace(sys)
+    evaluate(sys, X.copy(), V.copy(), s, s_win0, F, A, aux, sn, cst, 0.0)  # steady creep
+    n, nc = X.shape[0], cst.size
+    memo: dict[float, sm.StepJacobian] = {}
+    keep: list[np.ndarray] = []
+
+    def at(dt: float) -> sm.StepJacobian:
+        if dt not in memo:
+            out = np.empty((n + nc, 2 * n + nc))
+            step_jacobian_columns(sys, X.copy(), V.copy(), cst.copy(), s, s_win0, float(dt),
+                                  sm.H_STATE, sm.H_CREEP, out)
+            if not keep:
+                keep.append(_live_creep_states(out, n))
+            k = keep[0]
+            memo[dt] = sm.StepJacobian(out[:n, :n], out[:n, n:2 * n], out[:n, 2 * n:][:, k],
+                                       out[n:, :n][k], out[n:, n:2 * n][k],
+                                       out[n:, 2 * n:][np.ix_(k, k)])
+        return memo[dt]
+
+    return at
 
 
-def _nice_step(dt: float) -> float:
-    """Round a step down to 1, 2 or 5 × 10^k."""
-    e = np.floor(np.log10(dt))
-    for m in (5.0, 2.0, 1.0):
-        if m * 10**e <= dt:
-            return float(m * 10**e)
-    return float(10**e)
+def _live_creep_states(out: np.ndarray, n: int) -> np.ndarray:
+    """Indices of the creep states that act on the accelerations or change with the state."""
+    acts = np.any(out[:n, 2 * n:] != 0.0, axis=0)
+    moves = np.any(out[n:, :2 * n] != 0.0, axis=1)
+    return np.flatnonzero(acts | moves)
 
 
-def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> dict:
-    """Estimate the largest stable time step of the linearised system at ``X0``.
+@dataclass(frozen=True)
+class PointLimit:
+    """The step limit at one operating point.
+
+    Attributes
+    ----------
+    dt_max : float
+        Largest step (s) the map is stable for (:data:`LIMIT_MARGIN` below the crossing).
+    radius : float
+        Largest |μ| of the unresolved eigenvalues at ``dt_max`` (-).
+    frequency_hz : float
+        Frequency of the mode that limits the step (Hz; 1/(2Δt) for a period-two mode).
+    coordinate : str
+        The coordinate with the largest share of that mode's kinetic energy.
+    kind : str
+        ``period-two`` (an eigenvalue reaching −1), ``complex`` (a pair leaving the unit
+        circle elsewhere, found on the whole map) or ``ceiling`` (stable up to
+        :data:`STEP_CEILING`).
+    """
+
+    dt_max: float
+    radius: float
+    frequency_hz: float
+    coordinate: str
+    kind: str
+
+
+def point_limit(blocks_at: sm.BlocksAt, psi: float, phi: float,
+                describe: Callable[[np.ndarray], str]) -> PointLimit:
+    """The largest stable step at one operating point (module docs of :mod:`step_map`).
+
+    ``describe`` names the coordinate that dominates a mode shape (coordinates, m or rad).
+    """
+    roots = sm.period_two_steps(blocks_at(TRIAL_STEP), psi, phi)
+    guess = float(roots[0]) if roots.size else STEP_CEILING
+    crossing = sm.first_period_two_step(blocks_at, psi, phi, guess, STEP_CEILING)
+    kind = "period-two" if crossing < STEP_CEILING else "ceiling"
+    dt = crossing * (1.0 - LIMIT_MARGIN) if kind == "period-two" else STEP_CEILING
+    mu, _ = sm.map_eigen(blocks_at(dt), dt, psi, phi)
+    radius, _k = sm.numerical_radius(mu)
+    if radius > 1.0 + sm.RADIUS_TOL:
+        return _bisect_whole_map(blocks_at, psi, phi, dt, describe)
+    shape = _period_two_shape(blocks_at(dt), dt, psi, phi) if kind == "period-two" else None
+    coordinate = describe(shape) if shape is not None else ""
+    freq = 0.5 / dt if kind == "period-two" else 0.0
+    return PointLimit(dt, radius, freq, coordinate, kind)
+
+
+def _period_two_shape(jac: sm.StepJacobian, dt: float, psi: float, phi: float) -> np.ndarray:
+    """The mode shape (coordinates) of the eigenvalue nearest −1: the vector T(−1; Δt) maps
+    nearest to zero (three steps of inverse iteration).
+    """
+    import scipy.linalg as sla
+
+    t = sm.period_two_matrix(jac, dt, psi, phi)
+    lu = sla.lu_factor(t)
+    v: np.ndarray = np.random.default_rng(0).standard_normal((t.shape[0],))
+    for _ in range(3):
+        w = np.asarray(sla.lu_solve(lu, v))
+        v = w / np.linalg.norm(w)
+    return v
+
+
+def _bisect_whole_map(blocks_at: sm.BlocksAt, psi: float, phi: float, unstable: float,
+                      describe: Callable[[np.ndarray], str]) -> PointLimit:
+    """The limit by bisection on the whole map's eigenvalues below the step ``unstable``,
+    where an eigenvalue has left the unit circle away from −1.
+    """
+    def radius(dt: float) -> float:
+        return sm.numerical_radius(sm.map_eigen(blocks_at(dt), dt, psi, phi)[0])[0]
+
+    lo = unstable
+    while radius(lo) > 1.0 + sm.RADIUS_TOL:
+        lo *= 0.5
+    hi = 2.0 * lo if 2.0 * lo < unstable else unstable
+    while hi - lo > sm.STEP_RTOL * hi:
+        mid = 0.5 * (lo + hi)
+        if radius(mid) > 1.0 + sm.RADIUS_TOL:
+            hi = mid
+        else:
+            lo = mid
+    mu, vec = sm.map_eigen(blocks_at(hi), hi, psi, phi, vectors=True)
+    _r, k = sm.numerical_radius(mu)
+    assert vec is not None
+    n = blocks_at(hi).n
+    shape = np.abs(vec[:n, k])
+    freq = abs(math.atan2(mu[k].imag, mu[k].real)) / (2.0 * math.pi * hi)
+    return PointLimit(lo, radius(lo), freq, describe(shape), "complex")
+
+
+def dominant_coordinate(asm: Assembly) -> Callable[[np.ndarray], str]:
+    """A function naming the coordinate with the largest kinetic-energy share m·x² of a mode
+    shape ``x`` (coordinates of ``asm``).
+    """
+    mass = 1.0 / asm.sys.minv
+
+    def name(shape: np.ndarray) -> str:
+        return asm.dof_names[int(np.argmax(mass * np.abs(shape) ** 2))]
+
+    return name
+
+
+def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float,
+                    V0: np.ndarray | None = None, point: str = "static equilibrium") -> dict:
+    """The step limit of the kernel's one-step map linearised at (X0, V0) (module docs).
 
     Returns
     -------
     dict
-        ``dt_max`` (s), ``omega_max`` (rad/s), ``critical_dof`` (name of the coordinate with the
-        largest share in the critical mode) and ``dt_suggested`` (s).
+        ``dt_max`` (s), ``critical_dof`` (coordinate dominating the limiting mode),
+        ``critical_frequency_hz``, ``kind``, ``radius`` (the map's largest unresolved |μ| at
+        ``dt_max``) and ``point`` (the operating point), a JSON-ready dict (it is cached).
     """
-    sys = asm.sys
-    n = X0.shape[0]
-    V0 = np.zeros(n)
-    cols = np.arange(n)
-    K = -jacobian(sys, X0, V0, s, s_win0, cols)  # = M⁻¹K
-    C = -jacobian(sys, X0, V0, s, s_win0, cols, wrt_velocity=True)  # = M⁻¹C
-    # creep forces relax over τ = a/V (transient rolling contact): the creep "damper" c acts in
-    # series with the contact's tangential stiffness c/τ. Take the creep part of C (difference
-    # to a run without friction) into the stiffness.
-    no_friction = sys._replace(par=sys.par._replace(mu=0.0))
-    C0 = -jacobian(no_friction, X0, V0, s, s_win0, cols, wrt_velocity=True)
-    tau = creep_relaxation_time(asm)
-    K = K + (C - C0) / tau
-    C = C0
-    sq = np.sqrt(1.0 / sys.minv)
-    isq = 1.0 / sq
-    Ks = sq[:, None] * K * isq[None, :]
-    Cs = sq[:, None] * C * isq[None, :]
-    Ks = 0.5 * (Ks + Ks.T)
-    Cs = 0.5 * (Cs + Cs.T)
-    lam, vec = np.linalg.eigh(Ks)
-    omega = np.sqrt(np.clip(lam, 0.0, None))
-    cm = np.sum(vec * (Cs @ vec), axis=0)  # modal damping vᵀCv of each mode (BLAS, not einsum)
-    cm = np.clip(cm, 0.0, None)
-    dts = critical_step(omega, cm, sys.par.psi, sys.par.phi)
-    j = int(np.argmin(dts))
-    dt_max = float(dts[j]) * SAFETY
-    dof = asm.dof_names[int(np.argmax(np.abs(vec[:, j])))]
-    return {
-        "dt_max": dt_max,
-        "omega_max": float(omega.max()),
-        "critical_dof": dof,
-        "critical_frequency_hz": float(omega[j] / (2 * np.pi)),
-        "dt_suggested": _nice_step(0.8 * dt_max),
-    }
+    V = np.zeros_like(X0) if V0 is None else V0
+    par = asm.sys.par
+    lim = point_limit(kernel_blocks(asm, X0, V, s, s_win0), par.psi, par.phi,
+                      dominant_coordinate(asm))
+    return {"dt_max": lim.dt_max, "critical_dof": lim.coordinate,
+            "critical_frequency_hz": lim.frequency_hz, "kind": lim.kind,
+            "radius": lim.radius, "point": point, "method": "one-step map"}
 
 
-def check_stability(asm: Assembly, X0: np.ndarray, s: float, s_win0: float) -> dict:
-    """Raise :class:`StabilityError` if the scenario's step exceeds the estimated limit."""
-    return check_step(stability_limit(asm, X0, s, s_win0), float(asm.sys.par.dt))
+def auto_step(dt_max: float, output_interval: float) -> float:
+    """The step ``solver.dt: auto`` takes: the output interval (s) divided by the smallest
+    whole number that brings it to :data:`AUTO_FRACTION` of ``dt_max`` (s) or below.
+    """
+    k = max(1, math.ceil(output_interval / (AUTO_FRACTION * dt_max) - 1e-9))
+    return output_interval / k
+
+
+def curving_position(scenario: Scenario, s_start: float = 0.0) -> float | None:
+    """Where a run that meets a curve is linearised in steady curving: the middle of the arc
+    (vehicle-centre position, m), the curve's full curvature and cant deficiency, also for a
+    run that ends in the transition (conservative); None on straight track or when the run ends
+    before the curve begins.
+    """
+    line = scenario.line
+    if not isinstance(line, CurvedLine):
+        return None
+    if s_start + scenario.speed_mps * scenario.duration <= line.start_m:
+        return None
+    return float(line.start_m + line.entry_transition_m + 0.5 * line.arc_length_m)
+
+
+def combine(limits: list[dict]) -> dict:
+    """The run's limit: the operating point with the smallest ``dt_max``."""
+    return dict(min(limits, key=lambda d: d["dt_max"]))
+
+
+def resolve_step(scenario: Scenario, info: dict | None, output_interval: float
+                 ) -> tuple[float, dict | None]:
+    """The run's step (s) and its stability record: ``solver.dt: auto`` takes
+    :func:`auto_step` of the limit ``info`` (which it needs), a given step is checked against
+    it (:func:`check_step`) when there is one.
+    """
+    dt = scenario.solver.dt
+    if info is None:
+        if dt == AUTO:
+            raise ValueError("solver.dt: auto needs the stability limit")
+        return float(dt), None
+    info = {**info, "dt_suggested": auto_step(info["dt_max"], output_interval)}
+    if dt == AUTO:
+        step = info["dt_suggested"]
+        return step, {**info, "dt": step, "margin": info["dt_max"] / step, "auto": True}
+    return float(dt), {**check_step(info, float(dt)), "auto": False}
 
 
 def check_step(info: dict, dt: float) -> dict:
     """Raise :class:`StabilityError` if the step ``dt`` (s) exceeds the limit ``info`` of
-    :func:`stability_limit`; return ``info``.
+    :func:`stability_limit` (with ``dt_suggested``, the step auto would take); return
+    ``info`` with the step's margin ``dt_max / dt``.
     """
     if dt > info["dt_max"]:
+        mode = (f"a period-two ({info['critical_frequency_hz'] / 1000:.1f} kHz) oscillation "
+                if info.get("kind") == "period-two" else
+                f"a {info['critical_frequency_hz']:.0f} Hz mode ")
         raise StabilityError(
-            f"time step solver.dt = {dt:g} s is beyond the stability limit of Zhai's explicit "
-            f"method for this system (estimated {info['dt_max']:.3g} s, set by a "
-            f"{info['critical_frequency_hz']:.0f} Hz mode dominated by {info['critical_dof']}); "
-            f"use solver.dt = {info['dt_suggested']:g} s",
+            f"time step solver.dt = {dt:g} s is beyond the stability limit of the solver's "
+            f"one-step map at the {info.get('point', 'static equilibrium')} (largest stable "
+            f"step {info['dt_max']:.3g} s, set by {mode}dominated by {info['critical_dof']}); "
+            f"use solver.dt = auto or {info['dt_suggested']:g} s",
             dt=dt,
             dt_max=info["dt_max"],
             dt_suggested=info["dt_suggested"],
         )
-    return info
+    return {**info, "dt": dt, "margin": info["dt_max"] / dt}

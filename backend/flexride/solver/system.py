@@ -43,6 +43,7 @@ class Scalars(NamedTuple):
     flange_clearance: float  # lateral displacement where the flange touches (m)
     flange_k: float  # flange contact stiffness (N/m)
     runaway: float  # body displacement that stops a run (m)
+    chatter_force: float  # step-to-step change of a wheel force that counts as chatter (N)
     v_min: float  # creepages referred to max(V, v_min) (m/s)
     ct_y0: float  # first Δy of the contact table (m)
     ct_dy: float  # step of the contact table (m)
@@ -130,6 +131,17 @@ CH_WHEEL_N_FLANGE, CH_WHEEL_ANGLE = 8, 9
 # --- state scalars (tstate) ------------------------------------------------------------------
 T_TIME, T_WIN_S0, T_STEP, T_NREC, T_FIRST = range(5)
 N_TSTATE = 5
+
+# --- the run-time watch (watch[wheelset, side, quantity, field]) ------------------------------
+# quantities: the wheel's lateral creep force (both slots), its normal force; fields: the last
+# value, the last step-to-step change, the steps in a row the change alternated in sign beyond
+# ``chatter_force``
+W_CREEP_Y, W_NORMAL = range(2)
+N_WATCH_Q = 2
+W_LAST, W_CHANGE, W_COUNT = range(3)
+N_WATCH_F = 3
+#: Steps in a row of alternating changes beyond ``chatter_force`` that stop a run.
+CHATTER_STEPS = 64
 
 
 class SystemArrays(NamedTuple):

@@ -21,7 +21,14 @@ from flexride.scenario.excitation import MeasuredIrregularity
 from flexride.scenario.scenario import Scenario, located_error
 from flexride.scenario.vehicle import Vehicle
 from flexride.settings import Settings
-from flexride.solver.estimate import RunEstimate, count_output_points, count_steps, estimate_run
+from flexride.solver.estimate import (
+    RunEstimate,
+    check_steps,
+    count_output_points,
+    estimate_run,
+    known_step,
+    length_field,
+)
 from flexride.track.measured import MeasuredSources, load_measured
 
 
@@ -89,12 +96,11 @@ def check_profiles(scenario: Scenario, sources: MeasuredSources) -> None:
     _refuse(items)
 
 
-def _length_field(scenario: Scenario) -> str:
-    return "duration_s" if scenario.duration_s is not None else "distance_m"
-
-
 def check_run_size(scenario: Scenario, limits: Limits) -> RunEstimate:
-    """Refuse a run beyond ``limits`` (steps, recorded points, result size); return its size."""
+    """Refuse a run beyond ``limits`` (steps, recorded points, result size); return its size.
+    With ``solver.dt: auto`` the steps are bounded after the set-up (:func:`check_auto_steps`
+    at submission when the check ran, the worker before it runs).
+    """
     points = count_output_points(scenario)
     if points > limits.max_output_points:
         where = ("output", "points") if scenario.output.points else (
@@ -102,21 +108,27 @@ def check_run_size(scenario: Scenario, limits: Limits) -> RunEstimate:
         _refuse([ErrorItem(where, f"{points} recorded car-body points (the paper's six, user "
                            f"points and the floor grid) exceed the service's limit of "
                            f"{limits.max_output_points} (FLEXRIDE_MAX_OUTPUT_POINTS)")])
-    steps = count_steps(scenario)
-    if steps > limits.max_steps:
-        _refuse([ErrorItem((_length_field(scenario),),
-                           f"{steps:,} time steps (simulated time {scenario.duration:g} s / "
-                           f"solver.dt {scenario.solver.dt:g} s) exceed the service's limit of "
-                           f"{limits.max_steps:,} (FLEXRIDE_MAX_STEPS)")])
+    step = known_step(scenario)
+    if step is not None:  # auto: checked once the set-up has chosen the step
+        check_steps(scenario, step, limits.max_steps)
     est = estimate_run(scenario)
     if est.result_mb > limits.max_result_mb:
-        _refuse([ErrorItem((_length_field(scenario),),
+        _refuse([ErrorItem((length_field(scenario),),
                            f"estimated results of {est.result_mb:,.0f} MB ({est.channels} "
                            f"channels × {est.samples:,} samples × 8 bytes) exceed the "
                            f"service's limit of {limits.max_result_mb:g} MB "
                            "(FLEXRIDE_MAX_RESULT_MB); record fewer points, a lower "
                            "output.rate_hz or a shorter run")])
     return est
+
+
+def check_auto_steps(scenario: Scenario, preflight: dict | None, limits: Limits) -> None:
+    """Bound the steps of a ``solver.dt: auto`` scenario by the step its submission check
+    chose (``preflight["stability"]["dt"]``), when the check ran.
+    """
+    stab = (preflight or {}).get("stability") or {}
+    if isinstance(scenario.solver.dt, str) and stab.get("dt"):
+        check_steps(scenario, float(stab["dt"]), limits.max_steps)
 
 
 def check_fe_build(kind: str, vehicle: Vehicle, element_size_m: float, cutoff_hz: float,

@@ -126,12 +126,12 @@ def decay_run(scenario: Scenario, speed_kmh: float, *, disturbance_m: float = 0.
     wheelset laterally by ``disturbance_m`` (m) and say whether it hunts (module docs).
     """
     from flexride.solver.assemble import assemble
-    from flexride.solver.simulate import integrate
-    from flexride.solver.static import initial_window_start, static_equilibrium
+    from flexride.solver.setup_cache import default_cache
+    from flexride.solver.simulate import integrate, prepare_run
 
     sc = smooth_straight(scenario, speed_kmh, distance_m)
-    asm = assemble(sc)
-    X0 = static_equilibrium(asm, 0.0, initial_window_start(asm))
+    asm, ready = prepare_run(sc, assemble(sc), default_cache(), sc.solver.check_stability)
+    X0 = ready.X0
     Xi = X0.copy()
     # the leading wheelset alone: in phase and in antiphase modes of the bogies both start
     # (all wheelsets displaced alike would leave the car body's yaw modes at rest)

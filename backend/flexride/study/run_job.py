@@ -269,7 +269,8 @@ def run_simulation(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
     if problem:  # fail now, not after the run
         raise StorageError(f"storage unavailable: results directory not writable: {problem}")
     results = simulate(scenario, progress=rep.progress, cancel=rep.cancel,
-                       sources=UploadStore(ctx.settings.uploads_dir).sources)
+                       sources=UploadStore(ctx.settings.uploads_dir).sources,
+                       max_steps=ctx.settings.max_steps)
     rep.progress(1.0, "writing results")
     name = ctx.files.name_for(job.id)
     t_write = time.perf_counter()

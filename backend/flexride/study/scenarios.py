@@ -2,12 +2,13 @@
 reuse results, and the submission check (assembly, statics, time-step stability).
 
 The submission check is cached by a *stability key*: the scenario without the fields that do
-not change the linearised system at t = 0 (name, description, speed, length, excitation,
-outputs) and with rigid bodies. Speed does not enter the estimate (the creep "damper" ∝ 1/V and
-the relaxation time a/V cancel, see :mod:`flexride.solver.stability`), and the elastic modes of
-flexible bodies (≤ 100 Hz by default) lie far below the rail and contact modes that set the
-limit, so one check serves a whole study. The worker checks the full scenario again before it
-runs (``solver.check_stability``), so a miss still ends as a failed job with the step to use.
+not change the linearised one-step map or the step chosen for it (name, description,
+excitation) and with rigid bodies. Speed enters the map (the creep damping ∝ 1/V), the length
+whether the run reaches a curve, the outputs the interval an automatic step divides
+(:mod:`flexride.solver.stability`); the elastic modes of flexible bodies (≤ 100 Hz by default)
+lie far below the rail and contact modes that set the limit. The worker checks the full
+scenario again before it runs (``solver.check_stability``), so a miss still ends as a failed
+job with the step to use.
 """
 
 from __future__ import annotations
@@ -46,8 +47,7 @@ def scenario_hash(scenario: Scenario) -> str:
 def stability_key(scenario: Scenario) -> str:
     """Hash of the parts of a scenario that the submission check depends on (module docs)."""
     data = scenario.model_dump(mode="json")
-    for key in ("name", "description", "speed_kmh", "duration_s", "distance_m", "excitation",
-                "output"):
+    for key in ("name", "description", "excitation"):
         data.pop(key, None)
     for body in ("carbody", "frames"):
         data.get("bodies", {}).get(body, {}).update(model="rigid")
@@ -127,8 +127,9 @@ def _preflight(scenario: Scenario, sources: MeasuredSources) -> dict[str, Any]:
         ) from None
     stab = info.get("stability") or {}
     return {"n_dof": info["n_dof"], "output_rate_hz": info["output_rate"],
-            "stability": {k: stab[k] for k in ("dt_max", "dt_suggested", "critical_dof",
-                                               "critical_frequency_hz") if k in stab}}
+            "stability": {k: stab[k] for k in ("dt_max", "dt_suggested", "dt", "margin", "auto",
+                                               "critical_dof", "critical_frequency_hz",
+                                               "point") if k in stab}}
 
 
 PREFLIGHT = PreflightCache()

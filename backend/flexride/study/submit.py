@@ -19,7 +19,7 @@ from flexride.solver.estimate import RunEstimate
 from flexride.store import Job, JobStore, ResultFiles, Study, now
 from flexride.store.probe import dir_problem
 from flexride.store.uploads import UploadStore
-from flexride.study.admission import Limits, admit
+from flexride.study.admission import Limits, admit, check_auto_steps
 from flexride.study.expand import StudyPlan
 from flexride.study.scenarios import (
     PREFLIGHT,
@@ -133,6 +133,7 @@ class Submitter:
                           wall_time_s=0.0)
                 return Submitted(job, True, None)
         pre = self.check(scenario) if self.settings.preflight else None
+        check_auto_steps(scenario, pre, self.limits)
         meta = {"section": section} if section else {}
         job = Job(**common, status="queued", progress=0.0, message="queued", run_meta=meta)
         return Submitted(job, False, pre)
