@@ -62,6 +62,32 @@ def run_timings(meta: dict[str, Any], write_s: float | None,
             for k, v in zip(TIMING_KEYS, values, strict=True)}
 
 
+def time_step_record(meta: dict[str, Any]) -> dict[str, Any]:
+    """The run's time step from its ``meta``: ``s`` (the step, s), ``auto`` (chosen by the
+    solver), ``limit_s`` (the stability limit of the solver's one-step map, s), ``margin``
+    (limit / step) and ``limited_by`` (the operating point and coordinate that set the limit);
+    None where the run was not checked. Written as ``time_step_*`` attributes of a results file.
+    """
+    stab = meta.get("stability") or {}
+    limited = (f"{stab['point']}: {stab['critical_dof']}"
+               if stab.get("point") and stab.get("critical_dof") else None)
+    return {"s": meta.get("dt"), "auto": stab.get("auto"), "limit_s": stab.get("dt_max"),
+            "margin": stab.get("margin"), "limited_by": limited}
+
+
+def time_step_text(record: dict[str, Any]) -> str:
+    """:func:`time_step_record` in a few words: ``step 6.25e-05 s (auto, 1.30 × below the
+    stability limit)``.
+    """
+    if record.get("s") is None:
+        return "step unknown"
+    text = f"step {record['s']:.3g} s"
+    if record.get("margin") is None:
+        return f"{text} (not checked)"
+    how = "auto, " if record.get("auto") else ""
+    return f"{text} ({how}{record['margin']:.2f} × below the stability limit)"
+
+
 @dataclass(frozen=True)
 class Channel:
     """The parts of a channel name ``<body>.<point>.<quantity>.<direction>``.
@@ -202,6 +228,9 @@ class Results:
             f.attrs["flexride_version"] = __version__
             f.attrs["scenario_json"] = json.dumps(self.scenario)
             f.attrs["meta_json"] = json.dumps(self.meta)
+            for key, value in time_step_record(self.meta).items():
+                if value is not None:
+                    f.attrs[f"time_step_{key}"] = value
             f.create_dataset("time", data=self.time).attrs["unit"] = "s"
             f.create_dataset("distance", data=self.distance).attrs["unit"] = "m"
             grp = f.create_group("channels")

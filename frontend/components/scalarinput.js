@@ -25,14 +25,15 @@ function enumSelect(info, id, v, onInput) {
     info.enum.map((e) => h("option", { value: e, selected: e === v }, String(e))));
 }
 
-/** A text input for a number or a short string. */
+/** A text input for a number or a short string (its keyword, e.g. auto, shown as the empty input). */
 function textInput(info, id, v, onInput) {
   const numeric = isNumeric(info);
+  const shown = info.keyword !== undefined && v === info.keyword ? "" : v;
   return h("input", {
-    id, type: "text", value: numeric ? numText(v) : v ?? "", oninput: onInput,
+    id, type: "text", value: numeric ? numText(shown) : shown ?? "", oninput: onInput,
     inputmode: numeric ? (info.type === "integer" ? "numeric" : "decimal") : null,
     autocomplete: "off", spellcheck: numeric ? "false" : null,
-    placeholder: info.nullable ? "none" : null,
+    placeholder: info.keyword ?? (info.nullable ? "none" : null),
   });
 }
 
@@ -52,9 +53,13 @@ export function unitBadge(info) {
   return h("span", { class: "unit", title: unit === "-" ? "dimensionless" : `unit: ${unit}` }, prettyUnit(unit));
 }
 
-/** Number typed in a text input: null/undefined when empty, the text itself when it does not parse. */
+/**
+ * Number typed in a text input: the node's keyword when empty or typed, else null/undefined when
+ * empty, the text itself when it does not parse.
+ */
 function readNumber(node, text) {
   const t = text.trim();
+  if (node.keyword !== undefined && (t === "" || t.toLowerCase() === node.keyword)) return node.keyword;
   if (t === "") return node.nullable ? null : undefined;
   const n = Number(t.replace(/\s/g, "").replace(/,/g, "."));
   return Number.isFinite(n) ? n : t; // keep the text: the validator reports it

@@ -17,15 +17,23 @@ export function resolve(defs, node) {
   return { ...target, ...rest, description: rest.description || target.description };
 }
 
-/** Scalar info of an `anyOf` node: nullable, and the one non-null member merged in. */
+/** A member of an `anyOf` that is one word instead of a value (solver.dt: "auto"), or undefined. */
+const keywordOf = (x) => (x.type === "string" && typeof x.const === "string" ? x.const : undefined);
+
+/**
+ * Scalar info of an `anyOf` node: nullable, a keyword the field may hold instead of a value
+ * (`{const: "auto"}`: the empty input), and the one remaining member merged in.
+ */
 function anyOfInfo(defs, node) {
   const nonNull = node.anyOf.filter((x) => x.type !== "null");
   const nullable = nonNull.length < node.anyOf.length;
-  if (nonNull.length !== 1) return { ...node, nullable, isScalar: false };
-  const inner = resolve(defs, nonNull[0]);
+  const keywords = nonNull.map(keywordOf).filter((k) => k !== undefined);
+  const values = nonNull.filter((x) => keywordOf(x) === undefined);
+  if (values.length !== 1 || keywords.length > 1) return { ...node, nullable, isScalar: false };
+  const inner = resolve(defs, values[0]);
   return {
     ...inner, description: node.description, unit: node.unit ?? inner.unit, title: node.title,
-    default: node.default, nullable, isScalar: SCALAR_TYPES.includes(inner.type),
+    default: node.default, nullable, keyword: keywords[0], isScalar: SCALAR_TYPES.includes(inner.type),
   };
 }
 
@@ -146,7 +154,8 @@ function defaultText(info) {
  * allowed values with the unit, the default, and whether it may be left empty.
  */
 export function helpText(info, desc) {
-  const parts = [rangeText(info), defaultText(info), info.nullable ? "may be left empty (none)" : ""].filter(Boolean);
+  const empty = info.keyword !== undefined ? `may be left empty (${info.keyword})` : info.nullable ? "may be left empty (none)" : "";
+  const parts = [rangeText(info), defaultText(info), empty].filter(Boolean);
   const tail = parts.length ? `${parts.join("; ")}.` : "";
   const head = desc ? `${desc.replace(/\.?\s*$/, ".")}` : "";
   return [head, tail].filter(Boolean).join(" ") || null;

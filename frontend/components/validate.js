@@ -36,6 +36,7 @@ function stringProblems(node, v) {
 
 /** Problems of one scalar value under its schema node (from scalarInfo). */
 export function problems(node, v, required) {
+  if (node.keyword !== undefined && v === node.keyword) return [];
   if (v === undefined || v === "" || v === null) return emptyProblems(node, v, required);
   if (node.type === "number" || node.type === "integer") return numberProblems(node, v);
   if (node.type === "string" && node.const === undefined) return stringProblems(node, v);

@@ -309,7 +309,7 @@ export default async function render(main, ctx) {
     try {
       const res = await api.validateScenario(jobBody(sc));
       const pf = res?.preflight;
-      setChildren(msg, notice("info", "The server accepts this scenario", pf?.stability ? `Stable time step up to ${pf.stability.dt_max?.toExponential(2)} s; ${pf.n_dof} degrees of freedom; output at ${pf.output_rate_hz} Hz.` : null));
+      setChildren(msg, notice("info", "The server accepts this scenario", pf?.stability ? `${stepText(pf.stability)}; ${pf.n_dof} degrees of freedom; output at ${pf.output_rate_hz} Hz.` : null));
     } catch (err) {
       if (!isMissingEndpoint(err)) throw err;
       setChildren(msg, notice("info", "No problems found", "Checked against the scenario schema in the browser; the server checks again (with the time-step stability) when you submit."));
@@ -340,4 +340,12 @@ export default async function render(main, ctx) {
           submitForm))));
   estimate.now();
   return undefined;
+}
+
+/** The time step the server chose or checked, with its stability margin, in words. */
+function stepText(stab) {
+  const limit = `stable up to ${stab.dt_max?.toExponential(2)} s`;
+  if (stab.dt === undefined) return `Time step ${limit}`;
+  const how = stab.auto ? "chosen automatically" : "as given";
+  return `Time step ${stab.dt.toExponential(3)} s (${how}; ${limit}, margin ${stab.margin?.toFixed(2)})`;
 }

@@ -20,6 +20,7 @@ from rich.table import Table
 
 from flexride.cli.tables import fit_table, points_legend
 from flexride.errors import FlexrideError, ScenarioError
+from flexride.results import time_step_record, time_step_text
 from flexride.scenario.loading import parse_text
 
 app = typer.Typer(
@@ -114,6 +115,7 @@ def run_summary(results, write_s: float | None = None) -> dict[str, Any]:
         "speed_kmh": results.meta.get("speed_kmh"),
         "duration_s": float(results.time[-1]) if results.time.size else 0.0,
         "output_rate_hz": results.meta.get("output_rate"),
+        "time_step": time_step_record(results.meta),
         "wall_time_solve_s": results.meta.get("wall_time_solve_s"),
         "timings": run_timings(results.meta, write_s, analyze_s),
         "accelerations": rows,
@@ -124,7 +126,8 @@ def run_summary(results, write_s: float | None = None) -> dict[str, Any]:
 def _print_summary(summary: dict[str, Any]) -> None:
     table = Table(
         title=f"{summary['scenario']} — {summary['speed_kmh']:g} km/h, "
-        f"{summary['duration_s']:.2f} s, output {summary['output_rate_hz']:g} Hz"
+        f"{summary['duration_s']:.2f} s, output {summary['output_rate_hz']:g} Hz, "
+        f"{time_step_text(summary['time_step'])}"
     )
     table.add_column("body")
     table.add_column("point")

@@ -84,6 +84,8 @@ def _data_loc(loc: tuple[Any, ...], data: Any) -> tuple[str | int, ...]:
         if isinstance(node, dict) and part not in node and isinstance(part, str) and (
                 node.get("kind") == part):
             continue  # a union tag, not a key of the input
+        if data is not None and not isinstance(node, dict | list) and isinstance(part, str):
+            continue  # the member of a union of scalars (solver.dt: a number or auto)
         out.append(part)
         node = node.get(part) if isinstance(node, dict) else (
             node[part] if isinstance(node, list) and isinstance(part, int)
@@ -95,13 +97,26 @@ def validation_items(exc: ValidationError, data: Any = None) -> list[ErrorItem]:
     """One located problem per validation error: what is wrong, the allowed range and the
     value given (located in the input ``data``).
     """
-    items = []
-    for err in exc.errors():
+    errors = [(_data_loc(tuple(err["loc"]), data), err) for err in exc.errors()]
+    valued = {loc for loc, err in errors if err["type"] != "literal_error"}
+    keywords = {loc: str((err.get("ctx") or {}).get("expected", "")) for loc, err in errors
+                if err["type"] == "literal_error" and loc in valued}  # solver.dt: … or 'auto'
+    items: dict[tuple[str | int, ...], str] = {}
+    for loc, err in errors:
+        if loc in keywords and err["type"] == "literal_error":
+            continue
         got = err.get("input")
         got_txt = "" if isinstance(got, dict | list) else f", got {got!r}"
-        msg = f"{err['msg']}{allowed_range(err.get('ctx'))}{got_txt}"
-        items.append(ErrorItem(_data_loc(tuple(err["loc"]), data), msg))
-    return items
+        items.setdefault(loc, f"{err['msg']}{allowed_range(err.get('ctx'))}{got_txt}")
+    return [ErrorItem(loc, _or_keyword(msg, keywords.get(loc))) for loc, msg in items.items()]
+
+
+def _or_keyword(msg: str, keyword: str | None) -> str:
+    """``msg`` (``…, got 1.0``) with the keyword a field also accepts: ``… or 'auto', got 1.0``."""
+    if not keyword:
+        return msg
+    head, sep, tail = msg.rpartition(", got ")
+    return f"{head} or {keyword}{sep}{tail}" if sep else f"{msg} or {keyword}"
 
 
 def located_error(items: list[ErrorItem], source: str) -> ScenarioError:

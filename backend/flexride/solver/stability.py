@@ -3,8 +3,8 @@ is stable at the operating points the run meets, and the step ``solver.dt: auto`
 
 Operating points: the static equilibrium where the run starts and, on a curve the run reaches,
 the quasi-static curving position (steady state with its contact points, flange contact
-included) at the middle of the arc (:func:`curving_position`). A run has one speed, the lowest and highest at once; the creep damping it sets (∝ 1/V) is in
-the map.
+included) at the middle of the arc (:func:`curving_position`). A run has one speed, its lowest
+and highest at once; the creep damping it sets (∝ 1/V) is in the map.
 
 At each point the map's blocks are central differences of the kernel's force evaluation with
 the step's creep relaxation (:func:`kernel_blocks`) and the limit is found as
@@ -168,13 +168,23 @@ def _bisect_whole_map(blocks_at: sm.BlocksAt, psi: float, phi: float, unstable: 
 
 
 def dominant_coordinate(asm: Assembly) -> Callable[[np.ndarray], str]:
-    """A function naming the coordinate with the largest kinetic-energy share m·x² of a mode
-    shape ``x`` (coordinates of ``asm``).
+    """A function naming where a mode shape ``x`` (coordinates of ``asm``) has the largest
+    kinetic-energy share m·x²: the vehicle coordinate, or a rail and direction (its modal
+    coordinates summed) followed by the vehicle coordinate that moves most with it.
     """
-    mass = 1.0 / asm.sys.minv
+    energy_of = 1.0 / asm.sys.minv
+    nv = int(asm.sys.par.n_veh)
+    nm = int(asm.sys.par.n_rail_modes)
+    blocks = [f"{rail} rail {d}" for rail in ("left", "right")
+              for d in ("vertical", "lateral", "torsion")]
 
     def name(shape: np.ndarray) -> str:
-        return asm.dof_names[int(np.argmax(mass * np.abs(shape) ** 2))]
+        energy = energy_of * np.abs(shape) ** 2
+        vehicle = asm.dof_names[int(np.argmax(energy[:nv]))]
+        rail = energy[nv:].reshape(6, nm).sum(axis=1)
+        if rail.max() <= energy[:nv].max():
+            return vehicle
+        return f"{blocks[int(np.argmax(rail))]} with {vehicle}"
 
     return name
 
