@@ -9,8 +9,8 @@ its own line):
 * ``hit``: the same scenario again (static equilibrium and stability limit from memory);
 * ``disk``: from the cache file, as another worker process would get it.
 
-The target is ≤ 0.3 s for every condition (:data:`TARGET_S`); the ratio to it is printed for the
-worst miss and the worst hit. CPU times are printed beside wall times because other work on
+The targets (issue 25) are ≤ 3 s computed and ≤ 0.3 s from the cache for every condition
+(:data:`TARGET_S`); the ratio to them is printed for the worst of each kind. CPU times are printed beside wall times because other work on
 the machine inflates the wall times (the load average is printed). Repeats take the best.
 
 Usage::
@@ -25,7 +25,7 @@ import os
 import tempfile
 import time
 
-TARGET_S = 0.3
+TARGET_S = {"miss": 3.0, "hit": 0.3, "disk": 0.3}
 CONDITIONS = ("random-straight", "random-curve", "corrugation", "settlement")
 SPEEDS = (50, 80)
 
@@ -36,20 +36,16 @@ def _load() -> str:
 
 
 def _setup_time(scenario, vehicle, cache) -> tuple[float, float, str]:
-    """Wall and CPU time (s) of the set-up of ``scenario`` and where it came from."""
+    """Wall and CPU time (s) of the set-up of ``scenario`` (assembly, static equilibrium, the
+    time-step limit over its operating points, the step) and where it came from."""
     from flexride.solver.assemble import assemble
-    from flexride.solver.setup_cache import run_setup
-    from flexride.solver.simulate import CONTACT_TABLES, small_dense_problems
-    from flexride.solver.stability import check_step
-    from flexride.solver.static import initial_window_start
+    from flexride.solver.simulate import CONTACT_TABLES, prepare_run, small_dense_problems
 
     t, c = time.perf_counter(), time.process_time()
     with small_dense_problems():
         asm = assemble(scenario, vehicle=vehicle, contact_tables=CONTACT_TABLES)
-        s0 = initial_window_start(asm, 0.0)
-        setup = run_setup(asm, 0.0, s0, True, cache)
-        check_step(setup.stability or {"dt_max": 1.0}, float(asm.sys.par.dt))
-    return time.perf_counter() - t, time.process_time() - c, setup.source
+        _asm, ready = prepare_run(scenario, asm, cache, check=True)
+    return time.perf_counter() - t, time.process_time() - c, ready.source
 
 
 def main() -> None:
@@ -102,9 +98,10 @@ def main() -> None:
                       f"{best['miss'][0]:8.3f} / {best['miss'][1]:6.3f}  {best['hit'][0]:9.3f} "
                       f"{best['disk'][0]:9.3f}")
     for kind, value in worst.items():
-        status = "met" if value <= TARGET_S else "MISSED"
-        print(f"worst {kind:<4}: {value:.3f} s (target ≤ {TARGET_S} s: {status}, ratio "
-              f"{value / TARGET_S:.2f})")
+        target = TARGET_S[kind]
+        status = "met" if value <= target else "MISSED"
+        print(f"worst {kind:<4}: {value:.3f} s (target ≤ {target} s: {status}, ratio "
+              f"{value / target:.2f})")
     print(_load())
 
 

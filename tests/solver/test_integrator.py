@@ -69,7 +69,7 @@ def test_undamped_stability_limit_is_omega_dt_two():
     omega = 1000.0
     lim = oscillator_limit(omega, 0.0)
     assert lim.kind == "period-two"
-    crossing = lim.dt_max / (1.0 - LIMIT_MARGIN)
+    crossing = lim.dt_max / (1.0 - LIMIT_MARGIN["rolling"])
     assert crossing * omega == pytest.approx(2.0, rel=1e-3)
     mu = np.linalg.eigvals(sm.one_step_map(sm.oscillator_jacobian(omega, 0.0), 1.9 / omega))
     assert np.abs(mu).max() <= 1.0 + 1e-12
@@ -78,7 +78,7 @@ def test_undamped_stability_limit_is_omega_dt_two():
 def test_pure_damper_limit():
     """ẍ = −c·ẋ is stable for c·Δt ≤ 1 with ψ = φ = ½ (characteristic root −1 at c·Δt = 1)."""
     c = 500.0
-    crossing = oscillator_limit(0.0, c).dt_max / (1.0 - LIMIT_MARGIN)
+    crossing = oscillator_limit(0.0, c).dt_max / (1.0 - LIMIT_MARGIN["rolling"])
     assert crossing * c == pytest.approx(1.0, rel=1e-3)
 
 
@@ -87,7 +87,7 @@ def test_damped_oscillator_limit_is_where_the_kernel_update_grows(omega, zeta):
     """The check's limit of a damped oscillator against the kernel's own update run at 0.99
     and 1.01 of it (bounded, growing)."""
     c = 2.0 * zeta * omega
-    dt = oscillator_limit(omega, c).dt_max / (1.0 - LIMIT_MARGIN)
+    dt = oscillator_limit(omega, c).dt_max / (1.0 - LIMIT_MARGIN["rolling"])
     x_in = integrate_damped(omega, c, 0.99 * dt, 20000)
     x_out = integrate_damped(omega, c, 1.01 * dt, 20000)
     assert np.max(np.abs(x_in[-1000:])) <= 1.0

@@ -100,3 +100,19 @@ def test_secondary_lateral_damper_damps_car_body_lateral_motion():
     extra = lateral_damping(preset(**{"vehicle.optional.secondary_lateral_damper": c})) - \
         lateral_damping(preset())
     assert extra == pytest.approx(2 * c, rel=1e-6)
+
+
+def test_a_chattering_step_stops_the_run_with_a_step_that_works():
+    """Beyond the limit of the one-step map (S1002/60E1, 1/12000 s, check switched off) the
+    lateral creep force alternates from step to step on a perfect track within milliseconds
+    (the presets' former step): the run-time watch stops the run naming the time, the wheel
+    and a step; that step runs through."""
+    over = {"distance_m": None, "duration_s": 0.3, "excitation": [],
+            "solver.check_stability": False}
+    sc = preset("paper-random-straight-80", **{**over, "solver.dt": 1.0 / 12000.0})
+    with pytest.raises(SimulationError, match=r"numerically unstable at t = 0\.0\d+ s: the "
+                       r"lateral creep force of the (left|right) wheel of wheelset\d "
+                       r"alternated .* use solver\.dt = ") as err:
+        simulate(sc)
+    step = float(str(err.value).rsplit("= ", 1)[1].split()[0])
+    simulate(preset("paper-random-straight-80", **{**over, "solver.dt": step}))

@@ -1,100 +1,55 @@
 """The time-step check against the kernel itself (issue 25): for rigid and flexible bodies,
 conical and S1002/60E1 contact, straight and curved track at 20, 50 and 80 km/h, the kernel
-started at the check's operating point (static equilibrium, or steady curving at the middle of
-the arc) on a perfect track with a small perturbation does not grow over 2 s at 0.97 of the
-predicted limit and grows at 1.03 of it — so the kernel's own limit lies within 3 % of the
-prediction — and the check refuses the step 3 % above its limit.
-
-Growth is measured on the step-to-step changes of the wheels' lateral creep and normal forces
-(the run-time watch's record, :func:`flexride.solver.kernel._watch`), which a period-two
-oscillation makes large: after the start (equilibrium, perturbation: a few hundred N) they die
-out to below 1 N at a stable step, with short spikes where the rail window shifts, while at an
-unstable step they stay at the creep force's saturation or stop the run (the watch). The
-median over the last fifth of the run against the largest over the first twentieth separates
-the two by a factor of about 100 either side of the 10 % the test draws the line at.
+started at the check's operating point (steady rolling, or steady curving at the middle of the
+arc) on a perfect track with a small perturbation does not grow over 2 s at 0.97 of the
+predicted limit and grows above it (:mod:`flexride.solver.probe`): at 1.03 of it in steady
+rolling, so the kernel's own limit lies within 3 % of the prediction; at 1.045 of it in steady
+curving, where the kernel's limit scatters by −2.3 … +0.8 % about the frozen linearisation
+(the wheels move through the rail window and over the fasteners with a flange in contact) and
+the prediction, 1.5 % below the crossing so that no step it accepts grows, lies up to 3.3 %
+below it (rigid, S1002/60E1, 20 km/h: ``tools/studies/step_limit_vs_kernel.py``). The check
+refuses the step 3 % above the run's limit. The parts the check is built from are tested
+against what they stand for: the blocks of other steps against central differences at those
+steps, the map's two mirror halves against the whole map.
 """
 
 from __future__ import annotations
-
-import dataclasses
 
 import numpy as np
 import pytest
 
 from conftest import preset
 from flexride.errors import StabilityError
-from flexride.solver import system as S
-from flexride.solver.assemble import Assembly, assemble, vehicle_for, with_step
+from flexride.solver import step_map as sm
+from flexride.solver.assemble import assemble, vehicle_for
 from flexride.solver.forces import evaluate
-from flexride.solver.kernel import STATUS_FULL, STATUS_OK, run_chunk
+from flexride.solver.linearise import step_jacobian_columns, workspace
+from flexride.solver.probe import operating_start, probe
 from flexride.solver.setup_cache import SetupCache, run_setup
-from flexride.solver.simulate import _workspace, convected_rail_velocity, prepare_run
-from flexride.solver.stability import curving_position, resolve_step
-from flexride.solver.static import initial_window_start, static_equilibrium
-from flexride.solver.steady import smooth_assembly, steady_state
+from flexride.solver.simulate import prepare_run
+from flexride.solver.stability import KernelBlocks, OperatingPoint, resolve_step
+from flexride.solver.symmetry import coordinate_partners, creep_partners, mirror_halves
 
 #: Coarse FE bodies (as tests/solver/test_flexible_paper_case.py): 0.5 m elements.
 FLEX = {"bodies.carbody.model": "flexible", "bodies.carbody.element_size_m": 0.5,
         "bodies.carbody.cutoff_hz": 30.0, "bodies.frames.model": "flexible",
         "bodies.frames.element_size_m": 0.5, "bodies.frames.cutoff_hz": 100.0}
-SECONDS = 2.0
-PERTURBATION = 1.0e-7  # m or rad, random on every coordinate
-CHUNK = 64
+
+
+def _kw(over: dict) -> dict:
+    return {k.replace(".", "__"): v for k, v in over.items()}
 
 
 @pytest.fixture(scope="module")
 def flexible_vehicle():
-    return vehicle_for(preset("paper-metro", **{k.replace(".", "__"): v
-                                                for k, v in FLEX.items()}))
+    return vehicle_for(preset("paper-metro", **_kw(FLEX)))
 
 
 def scenario(body: str, contact: str, line: str, speed: float):
     """A paper condition on a perfect track, long enough to meet the middle of the arc."""
-    over = {"excitation": [], "distance_m": 300.0, "speed_kmh": speed}
-    if contact == "conical":
-        over["contact.geometry"] = "conical"
-    if body == "flexible":
-        over.update(FLEX)
-    return preset(f"paper-random-{line}-80", **{k.replace(".", "__"): v
-                                                for k, v in over.items()})
-
-
-def start(sc, asm: Assembly):
-    """The check's operating point: (assembly on smooth track starting there, s, s_win0, X, V)."""
-    s = curving_position(sc) or 0.0
-    smooth = smooth_assembly(asm, s)
-    s_win0 = initial_window_start(smooth, s)
-    X = static_equilibrium(smooth, s, s_win0)
-    V = np.zeros_like(X)
-    if s:
-        X, V = steady_state(smooth, s, s_win0, X)
-    par = smooth.sys.par._replace(s_start=s)
-    return dataclasses.replace(smooth, sys=smooth.sys._replace(par=par)), s, s_win0, X, V
-
-
-def step_changes(sc, asm: Assembly, dt: float) -> tuple[bool, float, float]:
-    """Run the kernel for :data:`SECONDS` from the operating point with a small perturbation;
-    return (the run stopped: chatter, NaN or runaway; the largest step-to-step change of a
-    watched wheel force over the first 5 % of the run; the median of those changes over the
-    last 20 %), forces in N.
-    """
-    smooth, s, s_win0, X, V = start(sc, asm)
-    smooth = with_step(smooth, sc, dt)
-    V = V + convected_rail_velocity(smooth, X)
-    X = X + PERTURBATION * np.random.default_rng(1).standard_normal(X.size)
-    ws = _workspace(smooth, X, V, X.copy(), s_win0)
-    evaluate(smooth.sys, ws.X, ws.V, s, s_win0, ws.F, ws.A, ws.aux, ws.sn, ws.cst, 0.0)
-    changes = []
-    for _ in range(round(SECONDS / dt) // CHUNK):
-        status = run_chunk(smooth.sys, ws.X, ws.V, ws.A, ws.Ap, ws.F, ws.aux, ws.sn, ws.cst,
-                           ws.facc, ws.ptv, ws.pscr, ws.X_ref, ws.u, ws.q, ws.tstate, CHUNK,
-                           ws.rec, ws.rec_t, ws.rec_s, ws.info, ws.watch)
-        ws.tstate[S.T_NREC] = 0  # keep recording into the same buffer
-        if status not in (STATUS_OK, STATUS_FULL):
-            return True, np.nan, np.nan
-        changes.append(np.abs(ws.watch[..., S.W_CHANGE]).max())
-    d = np.array(changes)
-    return False, float(d[: max(1, d.size // 20)].max()), float(np.median(d[-d.size // 5:]))
+    over = {"excitation": [], "distance_m": 300.0, "speed_kmh": speed,
+            "contact.geometry": contact, **(FLEX if body == "flexible" else {})}
+    return preset(f"paper-random-{line}-80", **_kw(over))
 
 
 CASES = [(b, c, ln, v) for b in ("rigid", "flexible") for c in ("conical", "profiles")
@@ -110,24 +65,76 @@ def test_predicted_limit_is_the_kernels(body, contact, line, speed, flexible_veh
     _asm, ready = prepare_run(sc, asm, cache, check=True)
     info = ready.stability
     assert info is not None
-    # the kernel from the operating point of this line (the run's limit is the smallest)
-    smooth, s, s_win0, _X, _V = start(sc, asm)
-    point = run_setup(smooth, s, s_win0, True, cache, curving=line == "curve").stability
+    # each operating point's own limit against the kernel started there
+    curving = line == "curve"
+    start, s, s_win0, _X, _V = operating_start(sc, asm, curving)
+    point = run_setup(start, s, s_win0, True, cache, steady=True,
+                      point=OperatingPoint(s, curving)).stability
     assert point is not None and point["kind"] == "period-two"
-    assert info["dt_max"] <= point["dt_max"]
-    dt_max = point["dt_max"]
-    stopped, first, last = step_changes(sc, asm, 0.97 * dt_max)
-    assert not stopped and last < 0.1 * first, (first, last)
-    stopped, first, last = step_changes(sc, asm, 1.03 * dt_max)
-    assert stopped or last >= 0.1 * first, (first, last)
+    assert info["dt_max"] <= point["dt_max"]  # the run's limit is its points' smallest
+    stable = probe(sc, asm, 0.97 * point["dt_max"], curving)
+    assert not stable.grows, stable
+    grown = probe(sc, asm, (1.045 if curving else 1.03) * point["dt_max"], curving)
+    assert grown.grows, grown
     # the check itself: the step 3 % above the run's limit is refused, the limit accepted
-    dt_max = info["dt_max"]
-    fixed = sc.model_copy(update={"solver": sc.solver.model_copy(update={"dt": 1.03 * dt_max})})
-    with pytest.raises(StabilityError, match=r"solver\.dt = auto"):
-        resolve_step(fixed, info, 1.0 / ready_rate(asm))
-    ok = sc.model_copy(update={"solver": sc.solver.model_copy(update={"dt": dt_max})})
-    assert resolve_step(ok, info, 1.0 / ready_rate(asm))[0] == dt_max
+    interval = 1.0 / float(asm.output_rate)
+    for factor in (1.03, 1.0):
+        given = sc.model_copy(update={"solver": sc.solver.model_copy(
+            update={"dt": factor * info["dt_max"]})})
+        if factor > 1.0:
+            with pytest.raises(StabilityError, match=r"use solver\.dt = auto or"):
+                resolve_step(given, info, interval)
+        else:
+            assert resolve_step(given, info, interval)[0] == info["dt_max"]
 
 
-def ready_rate(asm: Assembly) -> float:
-    return float(asm.output_rate)
+def _blocks(contact: str, curving: bool):
+    sc = scenario("rigid", contact, "curve" if curving else "straight", 80.0)
+    start, s, s_win0, X, V = operating_start(sc, assemble(sc), curving)
+    return start, s, s_win0, X, V, KernelBlocks(start, X, V, s, s_win0)
+
+
+@pytest.mark.parametrize("curving", [False, True])
+def test_blocks_of_any_step_are_the_central_differences_at_that_step(curving):
+    """The blocks of other steps follow from those at the trial step by the relaxation's
+    structure: equal to central differences of the kernel's evaluation at those steps."""
+    start, s, s_win0, X, V, blocks = _blocks("profiles", curving)
+    n = X.size
+    F, A, aux, sn, cst = workspace(start.sys)
+    evaluate(start.sys, X.copy(), V.copy(), s, s_win0, F, A, aux, sn, cst, 0.0)
+    k = blocks.creep_index
+    for dt in (2e-5, 8e-5, 3e-4):
+        out = np.empty((n + cst.size, 2 * n + cst.size))
+        step_jacobian_columns(start.sys, X.copy(), V.copy(), cst.copy(), s, s_win0, dt,
+                              sm.H_STATE, sm.H_CREEP, out)
+        direct = {"ax": out[:n, :n], "av": out[:n, n:2 * n], "ac": out[:n, 2 * n:][:, k],
+                  "cx": out[n:, :n][k], "cv": out[n:, n:2 * n][k],
+                  "cc": out[n:, 2 * n:][np.ix_(k, k)]}
+        got = blocks(dt)
+        for name, ref in direct.items():
+            value = getattr(got, name)
+            assert np.abs(value - ref).max() <= 1e-4 * np.abs(ref).max(), (dt, name)
+
+
+def test_mirror_halves_carry_the_whole_maps_eigenvalues():
+    """On straight track the two halves' eigenvalues are the whole map's; on a curve there
+    are no halves."""
+    start, _s, _w, _X, _V, blocks = _blocks("profiles", False)
+    halves = mirror_halves(blocks(1e-4), coordinate_partners(start.dof_names),
+                           creep_partners(blocks.creep_index, blocks.creep_shape),
+                           start.dof_names.index("carbody.z"))
+    assert halves is not None
+    dt = 8e-5
+    whole = np.abs(np.linalg.eigvals(sm.one_step_map(blocks(dt), dt)))
+    parts = np.abs(np.concatenate(
+        [np.linalg.eigvals(sm.one_step_map(h.project(blocks(dt)), dt)) for h in halves]))
+    assert whole.size == parts.size
+    # the moduli above 0.01 (the spurious roots near zero are ill-conditioned)
+    big_whole, big_parts = np.sort(whole[whole > 0.01]), np.sort(parts[parts > 0.01])
+    assert big_whole.size == big_parts.size
+    assert np.abs(big_whole - big_parts).max() < 1e-6
+    curve = _blocks("profiles", True)
+    c_start, c_blocks = curve[0], curve[-1]
+    assert mirror_halves(c_blocks(1e-4), coordinate_partners(c_start.dof_names),
+                         creep_partners(c_blocks.creep_index, c_blocks.creep_shape),
+                         c_start.dof_names.index("carbody.z")) is None

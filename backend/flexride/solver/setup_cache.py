@@ -43,6 +43,7 @@ import numpy as np
 
 from flexride.fileio import atomic_path, cache_root
 from flexride.solver.assemble import Assembly
+from flexride.solver.stability import OperatingPoint
 
 log = logging.getLogger(__name__)
 
@@ -124,10 +125,11 @@ def _hash_array(h: Any, name: str, a: np.ndarray) -> None:
     h.update(a.tobytes())
 
 
-def setup_key(asm: Assembly, s: float, s_win0: float, curving: bool = False) -> str:
+def setup_key(asm: Assembly, s: float, s_win0: float, steady: bool = False,
+              margin: float = 0.0) -> str:
     """Content key of the set-up of ``asm`` at position ``s`` (m) with the rail window
-    starting at ``s_win0`` (m), in static equilibrium or (``curving``) steady curving; see the
-    module docs.
+    starting at ``s_win0`` (m), in static equilibrium or (``steady``) the steady state, with
+    the stability limit ``margin`` below its crossing; see the module docs.
     """
     from flexride import __version__
     from flexride.solver.forces import route_inputs
@@ -137,7 +139,7 @@ def setup_key(asm: Assembly, s: float, s_win0: float, curving: bool = False) -> 
     h.update(json.dumps({"format": SETUP_FORMAT, "flexride": __version__,
                          "source": _source_digest(), "s": repr(float(s)),
                          "s_win0": repr(float(s_win0)), "asm": _assembly_inputs(asm),
-                         "curving": curving},
+                         "steady": steady, "margin": repr(float(margin))},
                         sort_keys=True).encode())
     par = {k: repr(v) for k, v in sysarr.par._asdict().items() if k not in NOT_READ["par"]}
     h.update(json.dumps(par, sort_keys=True).encode())
@@ -265,8 +267,9 @@ _DEFAULT = SetupCache()
 
 
 def run_setup(asm: Assembly, s: float, s_win0: float, stability: bool,
-              cache: SetupCache | None, curving: bool = False) -> Setup:
-    """Static equilibrium — or with ``curving`` the steady curving state — and (if
+              cache: SetupCache | None, steady: bool = False,
+              point: OperatingPoint | None = None) -> Setup:
+    """Static equilibrium — or with ``steady`` the steady state — and (if
     ``stability``) the stability limit of ``asm`` at ``s`` (m), from ``cache`` when known, else
     computed (and kept there).
 
@@ -280,9 +283,14 @@ def run_setup(asm: Assembly, s: float, s_win0: float, stability: bool,
         Also estimate the stability limit.
     cache : SetupCache or None
         Where set-ups are kept; None computes without keeping.
-    curving : bool
-        The steady curving state (``asm`` on smooth track,
-        :func:`~flexride.solver.steady.smooth_assembly`) instead of the static equilibrium.
+    steady : bool
+        The steady state (:func:`~flexride.solver.steady.steady_state`: rolling, or curving on
+        a curve, at the spin rates that balance the longitudinal creep forces; ``asm`` on
+        smooth track, :func:`~flexride.solver.steady.smooth_assembly`) instead of the static
+        equilibrium.
+    point : OperatingPoint, optional
+        The operating point the limit is for (its name and margin, in the key); default a
+        static equilibrium or steady rolling.
 
     Returns
     -------
@@ -290,29 +298,30 @@ def run_setup(asm: Assembly, s: float, s_win0: float, stability: bool,
     """
     from flexride.solver.stability import stability_limit
 
-    key = setup_key(asm, s, s_win0, curving) if cache is not None else ""
+    point = point or OperatingPoint(s, False)
+    key = setup_key(asm, s, s_win0, steady, point.margin) if cache is not None else ""
     known = None
     if cache is not None:
         hit = cache.get(key, stability)
         if hit is not None:
             return hit
-        known = None if curving else cache.get(key, False)
+        known = None if steady else cache.get(key, False)
     X0, V0 = ((known.X0, np.zeros_like(known.X0)) if known is not None
-              else _state(asm, s, s_win0, curving))
+              else _state(asm, s, s_win0, steady))
     stab = None
     if stability:
-        point = f"steady curving at s = {s:g} m" if curving else "static equilibrium"
-        stab = stability_limit(asm, X0, s, s_win0, V0, point)
+        label = point.label if steady else "static equilibrium"
+        stab = stability_limit(asm, X0, s, s_win0, V0, label, point.margin)
     if cache is not None:
         cache.put(key, X0, stab)
     return Setup(X0, stab, "computed")
 
 
-def _state(asm: Assembly, s: float, s_win0: float, curving: bool
+def _state(asm: Assembly, s: float, s_win0: float, steady: bool
            ) -> tuple[np.ndarray, np.ndarray]:
     """Coordinates (m, rad) and velocities (m/s, rad/s) of the set-up's state."""
     from flexride.solver.static import static_equilibrium
     from flexride.solver.steady import steady_state
 
     X0 = static_equilibrium(asm, s, s_win0)
-    return steady_state(asm, s, s_win0, X0) if curving else (X0, np.zeros_like(X0))
+    return steady_state(asm, s, s_win0, X0) if steady else (X0, np.zeros_like(X0))

@@ -29,7 +29,7 @@ from flexride.solver.kernel import (
     run_chunk,
 )
 from flexride.solver.setup_cache import SetupCache, default_cache, run_setup
-from flexride.solver.stability import combine, curving_position, resolve_step
+from flexride.solver.stability import OperatingPoint, combine, operating_points, resolve_step
 from flexride.solver.static import initial_window_start
 from flexride.solver.steady import smooth_assembly
 from flexride.track.measured import LIBRARY, MeasuredSources
@@ -186,25 +186,22 @@ def prepare_run(scenario: Scenario, asm: Assembly, cache: SetupCache | None, che
         A given step beyond the limit.
     """
     s_win0 = initial_window_start(asm, 0.0)
-    need = check or scenario.solver.dt == AUTO
-    setup = run_setup(asm, 0.0, s_win0, need, cache)
+    setup = run_setup(asm, 0.0, s_win0, False, cache)
     limit = None
-    if need:
-        assert setup.stability is not None  # asked for
-        limit = combine([setup.stability, *_curving_limits(scenario, asm, cache)])
+    if check or scenario.solver.dt == AUTO:
+        limit = combine([_point_limit(asm, point, cache)
+                         for point in operating_points(scenario, float(asm.sys.par.s_start))])
     dt, info = resolve_step(scenario, limit, 1.0 / output_rate_for(scenario))
     return with_step(asm, scenario, dt), ReadyRun(setup.X0, s_win0, info, setup.source)
 
 
-def _curving_limits(scenario: Scenario, asm: Assembly, cache: SetupCache | None) -> list[dict]:
-    """The step limit in steady curving, where the run reaches a curve (else none)."""
-    s = curving_position(scenario, float(asm.sys.par.s_start))
-    if s is None:
-        return []
-    smooth = smooth_assembly(asm, s)
-    setup = run_setup(smooth, s, initial_window_start(smooth, s), True, cache, curving=True)
+def _point_limit(asm: Assembly, point: OperatingPoint, cache: SetupCache | None) -> dict:
+    """The step limit at an operating point of the run, on smooth track."""
+    smooth = smooth_assembly(asm, point.s)
+    setup = run_setup(smooth, point.s, initial_window_start(smooth, point.s), True, cache,
+                      steady=True, point=point)
     assert setup.stability is not None  # asked for
-    return [setup.stability]
+    return setup.stability
 
 
 def _cache(setup_cache: Any) -> SetupCache | None:

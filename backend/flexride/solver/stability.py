@@ -1,9 +1,12 @@
 """The time-step check of a run: the largest step for which the kernel's own one-step map
 is stable at the operating points the run meets, and the step ``solver.dt: auto`` takes.
 
-Operating points: the static equilibrium where the run starts and, on a curve the run reaches,
-the quasi-static curving position (steady state with its contact points, flange contact
-included) at the middle of the arc (:func:`curving_position`). A run has one speed, its lowest
+Operating points (:func:`operating_points`, on smooth track): the steady rolling state where
+the run starts (every acceleration zero with the wheelsets' spin rates balancing their
+longitudinal creep forces — not the static equilibrium at rest: the rolling state's creep
+forces set the limit 1.3 % lower with S1002/60E1, as the kernel does) and, on a curve the run
+reaches, the steady curving state with its contact points, flange contact included, at the
+middle of the arc (:func:`curving_position`). A run has one speed, its lowest
 and highest at once; the creep damping it sets (∝ 1/V) is in the map.
 
 At each point the map's blocks are central differences of the kernel's force evaluation with
@@ -11,7 +14,7 @@ the step's creep relaxation (:func:`kernel_blocks`) and the limit is found as
 :mod:`flexride.solver.step_map` describes: the first step at which an eigenvalue reaches −1,
 then the whole map's eigenvalues checked at the step returned. The limit of the run is the
 smallest over its points, :data:`LIMIT_MARGIN` below the crossing (the finite differences and
-the linearisation of a nonlinear contact).
+the linearisation of a nonlinear, time-varying system).
 """
 
 from __future__ import annotations
@@ -30,44 +33,66 @@ from flexride.solver import step_map as sm
 from flexride.solver.assemble import Assembly
 from flexride.solver.forces import evaluate
 from flexride.solver.linearise import step_jacobian_columns, workspace
+from flexride.solver.symmetry import Half, coordinate_partners, creep_partners, mirror_halves
 
-#: The limit is this fraction below the first crossing of the unit circle.
-LIMIT_MARGIN = 0.005
+#: The limit lies this fraction below the first crossing of the unit circle, by the kind of
+#: operating point: what covers the spread of the kernel's own limit (bisected on the kernel,
+#: ``tools/studies/step_limit_vs_kernel.py``) about the frozen linearisation — within 0.5 % in
+#: steady rolling on straight track; −2.3 … +0.8 % in steady curving, where the wheels move
+#: through the rail window and over the fasteners with the flange in contact.
+LIMIT_MARGIN = {"rolling": 0.005, "curving": 0.015}
 #: No step above this is considered (s): the schema's largest step.
 STEP_CEILING = 1.0e-2
-#: First trial step of the search (s); only the speed of the search depends on it.
+#: The step the map's blocks are differenced at and its limit's search starts from (s); only
+#: the speed of the search depends on it.
 TRIAL_STEP = 1.0e-4
 
 
-def kernel_blocks(asm: Assembly, X: np.ndarray, V: np.ndarray, s: float,
-                  s_win0: float) -> sm.BlocksAt:
+class KernelBlocks:
     """The blocks of the kernel's one-step map at (X, V) (m, rad; m/s, rad/s) with the vehicle
     centre at ``s`` and the rail window at ``s_win0`` (m), as a function of the step (s).
 
-    The creep state is the steady one at (X, V); creep states that nothing depends on (a slot
-    without contact, the unused second slot of the conical model) are left out.
+    The creep state is the steady one at (X, V). The blocks are central differences at one step
+    h (:data:`TRIAL_STEP`); for any other step they follow exactly from the structure of the
+    relaxation (``forces._relax_creep_state``): with e = e^(−Δt/τ) per creep state, the new
+    creep state is (1 − e)·f(X, V) + e·c_prev and the accelerations are linear in it, so
+
+    * ∂c/∂c_prev = diag(e) (τ from e_h),
+    * ∂c/∂X, ∂c/∂V scale with (1 − e)/(1 − e_h) and ∂A/∂c_prev with e/e_h,
+    * ∂A/∂X and ∂A/∂V gain ∂A/∂c_prev(h)/e_h · diag(e_h − e) · ∂c/∂(X, V)(h)/(1 − e_h)
+
+    (at the steady state the derivative of τ with the normal load multiplies c_prev − f = 0).
+    Creep states that nothing depends on (a slot without contact, the unused second slot of
+    the conical model) are left out: ``creep_index`` holds the flat indices (into the creep
+    state of shape ``creep_shape``) of those kept.
     """
-    sys = asm.sys
-    F, A, aux, sn, cst = workspace(sys)
-    evaluate(sys, X.copy(), V.copy(), s, s_win0, F, A, aux, sn, cst, 0.0)  # steady creep
-    n, nc = X.shape[0], cst.size
-    memo: dict[float, sm.StepJacobian] = {}
-    keep: list[np.ndarray] = []
 
-    def at(dt: float) -> sm.StepJacobian:
-        if dt not in memo:
-            out = np.empty((n + nc, 2 * n + nc))
-            step_jacobian_columns(sys, X.copy(), V.copy(), cst.copy(), s, s_win0, float(dt),
-                                  sm.H_STATE, sm.H_CREEP, out)
-            if not keep:
-                keep.append(_live_creep_states(out, n))
-            k = keep[0]
-            memo[dt] = sm.StepJacobian(out[:n, :n], out[:n, n:2 * n], out[:n, 2 * n:][:, k],
-                                       out[n:, :n][k], out[n:, n:2 * n][k],
-                                       out[n:, 2 * n:][np.ix_(k, k)])
-        return memo[dt]
+    def __init__(self, asm: Assembly, X: np.ndarray, V: np.ndarray, s: float, s_win0: float):
+        sys = asm.sys
+        n = X.shape[0]
+        F, A, aux, sn, cst = workspace(sys)
+        evaluate(sys, X.copy(), V.copy(), s, s_win0, F, A, aux, sn, cst, 0.0)  # steady
+        out = np.empty((n + cst.size, 2 * n + cst.size))
+        step_jacobian_columns(sys, X.copy(), V.copy(), cst.copy(), s, s_win0, TRIAL_STEP,
+                              sm.H_STATE, sm.H_CREEP, out)
+        self.creep_shape = cst.shape
+        self.creep_index = k = _live_creep_states(out, n)
+        self._h = sm.StepJacobian(out[:n, :n], out[:n, n:2 * n], out[:n, 2 * n:][:, k],
+                                  out[n:, :n][k], out[n:, n:2 * n][k],
+                                  out[n:, 2 * n:][np.ix_(k, k)])
+        self._e_h = np.diag(self._h.cc).copy()
+        self._tau = -TRIAL_STEP / np.log(self._e_h)
 
-    return at
+    def __call__(self, dt: float) -> sm.StepJacobian:
+        """The blocks for the step ``dt`` (s)."""
+        h, e_h = self._h, self._e_h
+        if dt == TRIAL_STEP:
+            return h
+        e = np.exp(-dt / self._tau)
+        grow = (1.0 - e) / (1.0 - e_h)
+        extra = (h.ac * ((e_h - e) / (e_h * (1.0 - e_h)))[None, :])
+        return sm.StepJacobian(h.ax + extra @ h.cx, h.av + extra @ h.cv, h.ac * (e / e_h),
+                               h.cx * grow[:, None], h.cv * grow[:, None], np.diag(e))
 
 
 def _live_creep_states(out: np.ndarray, n: int) -> np.ndarray:
@@ -105,16 +130,16 @@ class PointLimit:
 
 
 def point_limit(blocks_at: sm.BlocksAt, psi: float, phi: float,
-                describe: Callable[[np.ndarray], str]) -> PointLimit:
-    """The largest stable step at one operating point (module docs of :mod:`step_map`).
+                describe: Callable[[np.ndarray], str], margin: float = LIMIT_MARGIN["rolling"]
+                ) -> PointLimit:
+    """The largest stable step at one operating point (module docs of :mod:`step_map`),
+    ``margin`` (fraction) below the crossing.
 
     ``describe`` names the coordinate that dominates a mode shape (coordinates, m or rad).
     """
-    roots = sm.period_two_steps(blocks_at(TRIAL_STEP), psi, phi)
-    guess = float(roots[0]) if roots.size else STEP_CEILING
-    crossing = sm.first_period_two_step(blocks_at, psi, phi, guess, STEP_CEILING)
+    crossing = sm.first_period_two_step(blocks_at, psi, phi, TRIAL_STEP, STEP_CEILING)
     kind = "period-two" if crossing < STEP_CEILING else "ceiling"
-    dt = crossing * (1.0 - LIMIT_MARGIN) if kind == "period-two" else STEP_CEILING
+    dt = crossing * (1.0 - margin) if kind == "period-two" else STEP_CEILING
     mu, _ = sm.map_eigen(blocks_at(dt), dt, psi, phi)
     radius, _k = sm.numerical_radius(mu)
     if radius > 1.0 + sm.RADIUS_TOL:
@@ -167,6 +192,26 @@ def _bisect_whole_map(blocks_at: sm.BlocksAt, psi: float, phi: float, unstable: 
     return PointLimit(lo, radius(lo), freq, describe(shape), "complex")
 
 
+def _mirror_halves(asm: Assembly, blocks: KernelBlocks) -> tuple[Half, Half] | None:
+    """The map's symmetric and antisymmetric halves where it is mirror-symmetric
+    (:mod:`flexride.solver.symmetry`), else None.
+    """
+    return mirror_halves(blocks(TRIAL_STEP), coordinate_partners(asm.dof_names),
+                         creep_partners(blocks.creep_index, blocks.creep_shape),
+                         asm.dof_names.index(f"{asm.vehicle.bodies[0].name}.z"))
+
+
+def _projected(blocks: sm.BlocksAt, half: Half) -> sm.BlocksAt:
+    """``blocks`` in the basis of ``half``."""
+    return lambda dt: half.project(blocks(dt))
+
+
+def _expanded(describe: Callable[[np.ndarray], str], half: Half
+              ) -> Callable[[np.ndarray], str]:
+    """``describe`` of a mode shape given in the basis of ``half``."""
+    return lambda shape: describe(half.expand(shape))
+
+
 def dominant_coordinate(asm: Assembly) -> Callable[[np.ndarray], str]:
     """A function naming where a mode shape ``x`` (coordinates of ``asm``) has the largest
     kinetic-energy share m·x²: the vehicle coordinate, or a rail and direction (its modal
@@ -190,8 +235,10 @@ def dominant_coordinate(asm: Assembly) -> Callable[[np.ndarray], str]:
 
 
 def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float,
-                    V0: np.ndarray | None = None, point: str = "static equilibrium") -> dict:
-    """The step limit of the kernel's one-step map linearised at (X0, V0) (module docs).
+                    V0: np.ndarray | None = None, point: str = "static equilibrium",
+                    margin: float = LIMIT_MARGIN["rolling"]) -> dict:
+    """The step limit of the kernel's one-step map linearised at (X0, V0), ``margin``
+    (fraction) below the crossing (module docs).
 
     Returns
     -------
@@ -202,8 +249,14 @@ def stability_limit(asm: Assembly, X0: np.ndarray, s: float, s_win0: float,
     """
     V = np.zeros_like(X0) if V0 is None else V0
     par = asm.sys.par
-    lim = point_limit(kernel_blocks(asm, X0, V, s, s_win0), par.psi, par.phi,
-                      dominant_coordinate(asm))
+    blocks = KernelBlocks(asm, X0, V, s, s_win0)
+    describe = dominant_coordinate(asm)
+    halves = _mirror_halves(asm, blocks)
+    if halves is None:
+        lim = point_limit(blocks, par.psi, par.phi, describe, margin)
+    else:
+        lim = min((point_limit(_projected(blocks, h), par.psi, par.phi, _expanded(describe, h),
+                               margin) for h in halves), key=lambda p: p.dt_max)
     return {"dt_max": lim.dt_max, "critical_dof": lim.coordinate,
             "critical_frequency_hz": lim.frequency_hz, "kind": lim.kind,
             "radius": lim.radius, "point": point, "method": "one-step map"}
@@ -229,6 +282,37 @@ def curving_position(scenario: Scenario, s_start: float = 0.0) -> float | None:
     if s_start + scenario.speed_mps * scenario.duration <= line.start_m:
         return None
     return float(line.start_m + line.entry_transition_m + 0.5 * line.arc_length_m)
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """Where a run is linearised: the vehicle centre at ``s`` (m) on smooth track in steady
+    rolling or, on a curve, steady ``curving``.
+    """
+
+    s: float
+    curving: bool
+
+    @property
+    def label(self) -> str:
+        """What the stability record calls it."""
+        return f"steady {'curving' if self.curving else 'rolling'} at s = {self.s:g} m"
+
+    @property
+    def margin(self) -> float:
+        """:data:`LIMIT_MARGIN` of its kind."""
+        return LIMIT_MARGIN["curving" if self.curving else "rolling"]
+
+
+def operating_points(scenario: Scenario, s_start: float = 0.0) -> list[OperatingPoint]:
+    """The run's operating points: the steady rolling where it starts, and steady curving at
+    :func:`curving_position` if it meets a curve. Each is taken on smooth track (the
+    irregularities are the excitation, not the system), so the realisations of a condition
+    share their limit.
+    """
+    points = [OperatingPoint(s_start, False)]
+    s = curving_position(scenario, s_start)
+    return points if s is None else [*points, OperatingPoint(s, True)]
 
 
 def combine(limits: list[dict]) -> dict:

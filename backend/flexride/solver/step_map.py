@@ -32,13 +32,13 @@ With the z-transform of the map, μ is an eigenvalue when
     b(μ) = ((1 + φ)μ − φ) / (μ(μ − 1)),
     K̃ = J_AX + J_Ac (μI − J_cc)⁻¹ J_cX,  C̃ = J_AV + J_Ac (μI − J_cc)⁻¹ J_cV,
 
-an n × n problem instead of (3n + m). At μ = −1 (a = (φ − 2ψ)/2, b = −(1 + 2φ)/2) and with the
-creep blocks frozen, the steps with a real root at −1 solve a quadratic eigenvalue problem in
-1/Δt (:func:`period_two_steps`); the blocks change with Δt (the relaxation factor e^(−Δt/τ)),
-so the first root is then followed on the exact T(−1; Δt) by bracketing the smallest real
-eigenvalue of T through zero (:func:`first_period_two_step`). Finally the whole map is
-checked at the step found (:func:`numerical_radius` of its eigenvalues), which would reveal a
-complex pair leaving the circle earlier; if it does, the limit is bisected on the whole map.
+an n × n problem instead of (3n + m). At μ = −1 (a = (φ − 2ψ)/2, b = −(1 + 2φ)/2) every
+eigenvalue of T(−1; Δt) is 1 at Δt = 0, and the first period-two root is the first step at which
+a real one passes zero (:func:`first_period_two_step`): bracketed by doubling or halving from a
+trial step and closed by regula falsi on the real eigenvalue nearest zero (shift-invert
+Arnoldi), then confirmed on all eigenvalues. Finally the whole map is checked at the step found
+(:func:`numerical_radius` of its eigenvalues), which would reveal a complex pair leaving the
+circle earlier; if it does, the limit is bisected on the whole map.
 """
 
 from __future__ import annotations
@@ -61,7 +61,9 @@ RADIUS_TOL = 1.0e-6
 H_STATE = 1.0e-7
 H_CREEP = 1.0
 #: Relative accuracy of the limit's search.
-STEP_RTOL = 2.0e-4
+STEP_RTOL = 5.0e-4
+#: Eigenvalues of T(−1; Δt) nearest zero computed in the limit's search.
+NEAREST = 6
 
 
 @dataclass(frozen=True)
@@ -182,26 +184,37 @@ def period_two_matrix(jac: StepJacobian, dt: float, psi: float, phi: float) -> n
     return np.eye(jac.n) - (a * dt**2) * k - (b * dt) * c
 
 
-def period_two_steps(jac: StepJacobian, psi: float, phi: float) -> np.ndarray:
-    """Steps Δt > 0 (s, ascending) at which T(−1; Δt) of the blocks ``jac`` (frozen) is
-    singular: a quadratic eigenvalue problem in ν = 1/Δt,
-    (ν² I − b ν C̃ − a K̃) v = 0, solved through its companion matrix.
-    """
-    a, b = _period_two_coefficients(psi, phi)
-    k, c = condensed_at_minus_one(jac)
-    n = jac.n
-    companion = np.block([[np.zeros((n, n)), np.eye(n)], [a * k, b * c]])
-    nu = sla.eigvals(companion, overwrite_a=True, check_finite=False)
-    real = np.abs(nu.imag) <= 1e-9 * np.abs(nu)
-    positive = nu.real[real & (nu.real > 0.0)]
-    return np.sort(1.0 / positive)
-
-
 def smallest_real_eigenvalue(t: np.ndarray) -> float:
     """The smallest real eigenvalue of ``t`` (+inf if none is real)."""
     lam = sla.eigvals(t, overwrite_a=True, check_finite=False)
+    return _least_real(lam, min)
+
+
+def nearest_real_eigenvalue(t: np.ndarray) -> float:
+    """The real eigenvalue of ``t`` nearest zero among its :data:`NEAREST` eigenvalues nearest
+    zero (shift-invert Arnoldi on one LU factorisation): a tenth of the cost of all
+    eigenvalues, and the same as :func:`smallest_real_eigenvalue` as long as no real eigenvalue
+    has passed zero — which the caller confirms once at the end. If none of them is real, the
+    smallest real eigenvalue of all.
+    """
+    import scipy.sparse.linalg as spla
+
+    if t.shape[0] <= 4 * NEAREST:
+        return smallest_real_eigenvalue(t)
+    lu = sla.lu_factor(t, check_finite=False)
+    inverse = spla.LinearOperator(t.shape, matvec=lambda v: sla.lu_solve(lu, v), dtype=float)
+    try:
+        nu = spla.eigs(inverse, k=NEAREST, which="LM", return_eigenvectors=False, tol=1e-10)
+    except spla.ArpackNoConvergence:
+        return smallest_real_eigenvalue(t)
+    near = _least_real(1.0 / nu, lambda v: min(v, key=abs))
+    return near if math.isfinite(near) else smallest_real_eigenvalue(t)
+
+
+def _least_real(lam: np.ndarray, pick: Callable) -> float:
+    """``pick`` of the real values among the eigenvalues ``lam`` (+inf if none is real)."""
     real = lam.real[np.abs(lam.imag) <= 1e-9 * np.maximum(np.abs(lam), 1e-300)]
-    return float(real.min()) if real.size else math.inf
+    return float(pick(list(real))) if real.size else math.inf
 
 
 def first_period_two_step(blocks_at: BlocksAt, psi: float, phi: float, guess: float,
@@ -210,23 +223,39 @@ def first_period_two_step(blocks_at: BlocksAt, psi: float, phi: float, guess: fl
     none does below it.
 
     ``g(Δt)``, the smallest real eigenvalue of T(−1; Δt), is 1 at Δt = 0 and passes through
-    zero at the first period-two root; it is bracketed from ``guess`` (the first root of the
-    blocks frozen at a trial step, :func:`period_two_steps`) and the bracket closed by
-    regula falsi (Illinois) to :data:`STEP_RTOL`.
+    zero at the first period-two root. The root is bracketed from ``guess`` (s) by doubling or
+    halving and the bracket closed by regula falsi (Illinois) to :data:`STEP_RTOL`, on the real
+    eigenvalue nearest zero (:func:`nearest_real_eigenvalue`); that no other real eigenvalue
+    has passed zero before is then confirmed on all of them, and the search repeated on all of
+    them if one has.
     """
-    def g(dt: float) -> float:
-        return smallest_real_eigenvalue(period_two_matrix(blocks_at(dt), dt, psi, phi))
+    def period_two(dt: float) -> np.ndarray:
+        return period_two_matrix(blocks_at(dt), dt, psi, phi)
 
-    lo, hi = _bracket(g, min(guess, ceiling), ceiling)
-    if hi is None:
-        return ceiling
-    return _illinois(g, lo, hi)
+    def g_near(dt: float) -> float:
+        return nearest_real_eigenvalue(period_two(dt))
+
+    def g(dt: float) -> float:
+        return smallest_real_eigenvalue(period_two(dt))
+
+    lo, hi = _bracket(g_near, min(guess, ceiling), ceiling)
+    root = ceiling if hi is None else _illinois(g_near, lo, hi)
+    g_root = g(root)
+    if g_root > 0.0:
+        return root
+    # another real eigenvalue passed zero first: close in on it on all eigenvalues, from the
+    # bracket's lower end if it is still below every crossing
+    g_lo = g(lo[0])
+    if g_lo > 0.0:
+        return _illinois(g, (lo[0], g_lo), (root, g_root))
+    lo, hi = _bracket(g, lo[0], ceiling)
+    return ceiling if hi is None else _illinois(g, lo, hi)
 
 
 def _bracket(g: Callable[[float], float], guess: float, ceiling: float
              ) -> tuple[tuple[float, float], tuple[float, float] | None]:
     """(lo, g(lo)) with g > 0 and (hi, g(hi)) with g ≤ 0 around the first root, searching
-    from ``guess`` by factors of 1.25; hi is None when g > 0 up to ``ceiling``.
+    from ``guess`` by factors of 2; hi is None when g > 0 up to ``ceiling``.
     """
     dt = guess
     value = g(dt)
@@ -234,13 +263,13 @@ def _bracket(g: Callable[[float], float], guess: float, ceiling: float
         while True:
             if dt >= ceiling:
                 return (dt, value), None
-            nxt = min(dt * 1.25, ceiling)
+            nxt = min(dt * 2.0, ceiling)
             nv = g(nxt)
             if nv <= 0.0:
                 return (dt, value), (nxt, nv)
             dt, value = nxt, nv
     while True:
-        nxt = dt / 1.25
+        nxt = dt / 2.0
         nv = g(nxt)
         if nv > 0.0:
             return (nxt, nv), (dt, value)
