@@ -6,12 +6,14 @@ process with compiled kernels and the FE bodies already built (their cached load
 its own line):
 
 * ``miss``: the set-up with an empty set-up cache (computed), wall and CPU time;
-* ``hit``: the same scenario again (static equilibrium and stability limit from memory);
+* ``hit``: the same scenario again (static equilibrium, steady states and step limits from
+  memory);
 * ``disk``: from the cache file, as another worker process would get it.
 
 The targets (issue 25) are ≤ 3 s computed and ≤ 0.3 s from the cache for every condition
-(:data:`TARGET_S`); the ratio to them is printed for the worst of each kind. CPU times are printed beside wall times because other work on
-the machine inflates the wall times (the load average is printed). Repeats take the best.
+(:data:`TARGET_S`); the ratio to them is printed for the worst of each kind. CPU times are
+printed beside wall times because other work on the machine inflates the wall times (the load
+average is printed). Repeats take the best.
 
 Usage::
 

@@ -7,6 +7,9 @@ import json
 import subprocess
 import sys
 
+import h5py
+import pytest
+
 from flexride.results import Results
 
 
@@ -36,6 +39,14 @@ def test_run_preset_json(tmp_path):
         assert f"carbody.{point}.acc.z" in names and f"carbody.{point}.acc.y" in names
     res = Results.read_hdf5(out)
     assert res.time[-1] > 0.99 and res.scenario["speed_kmh"] == 80.0
+    # the automatic step, its limit and margin in the summary and the file's attributes
+    step = summary["time_step"]
+    assert step["auto"] and step["s"] == pytest.approx(1.0 / 16000.0)
+    assert step["margin"] == pytest.approx(step["limit_s"] / step["s"]) and step["margin"] > 1.25
+    with h5py.File(out) as f:
+        assert f.attrs["time_step_s"] == step["s"] and f.attrs["time_step_auto"]
+        assert f.attrs["time_step_margin"] == pytest.approx(step["margin"])
+        assert "steady rolling" in f.attrs["time_step_limited_by"]
 
 
 def test_presets_lists_all():
@@ -49,8 +60,13 @@ def test_errors_are_one_line_and_nonzero(tmp_path):
     assert code == 2 and line.startswith("error: unknown preset")
     code, _, _, line = _invoke("run", "--preset", "paper-metro", "--set", "solver.dt=1e-3",
                                "-o", str(tmp_path / "x.h5"))
-    assert code == 2 and "use solver.dt =" in line
+    assert code == 2 and "use solver.dt = auto or" in line
+    assert "largest stable step" in line and "period-two" in line
     assert not (tmp_path / "x.h5").exists()
+    code, _, _, line = _invoke("run", "--preset", "paper-metro", "--set", "solver.dt=1.0",
+                               "-o", str(tmp_path / "x.h5"))
+    assert code == 2 and line.startswith("error: ") and "solver.dt:" in line
+    assert "or 'auto', got 1.0" in line and line.count("\n") == 0
     code, _, _, line = _invoke("run", str(tmp_path / "missing.yaml"))
     assert code == 2 and "not found" in line
     code, _, err, line = _invoke("run", "--preset", "paper-metro", "--set",

@@ -10,14 +10,18 @@ from conftest import preset
 from flexride.solver.simulate import simulate
 
 
-@pytest.mark.parametrize(("contact", "seconds"), [("conical", 4.0), ("profiles", 2.0)])
-def test_auto_step_is_converged(contact, seconds):
-    """The conical tread and real profiles (S1002/60E1): the car-body rms at the automatic
-    step within 1 % of half of it."""
-    base = {"duration_s": seconds, "output.rate_hz": 1000.0, "contact.geometry": contact}
-    a = simulate(preset("paper-metro-random", **base))
+@pytest.mark.parametrize(("name", "contact", "seconds"), [
+    ("paper-metro-random", "conical", 4.0), ("paper-metro-random", "profiles", 2.0),
+    ("paper-random-curve-80", "profiles", 6.0)])
+def test_auto_step_is_converged(name, contact, seconds):
+    """The conical tread and real profiles (S1002/60E1), straight and into the curve (its
+    limit is the smaller of steady rolling and steady curving): the car-body rms at the
+    automatic step within 1 % of half of it."""
+    base = {"duration_s": seconds, "distance_m": None, "output.rate_hz": 1000.0,
+            "contact.geometry": contact}
+    a = simulate(preset(name, **base))
     assert a.meta["stability"]["auto"] and a.meta["stability"]["margin"] >= 1.25
-    b = simulate(preset("paper-metro-random", **base, **{"solver.dt": a.meta["dt"] / 2}))
+    b = simulate(preset(name, **base, **{"solver.dt": a.meta["dt"] / 2}))
     for ch in ("carbody.PC.acc.z", "carbody.PR.acc.z", "carbody.PC.acc.y"):
         ra = np.sqrt(np.mean(a.channels[ch] ** 2))
         rb = np.sqrt(np.mean(b.channels[ch] ** 2))

@@ -64,17 +64,18 @@ class Probe:
         return self.stopped or self.end >= GROWTH_RATIO * self.start
 
 
-def operating_start(scenario: Scenario, asm: Assembly, curving: bool
+def operating_start(scenario: Scenario, asm: Assembly, curving: bool, seconds: float = 0.0
                     ) -> tuple[Assembly, float, float, np.ndarray, np.ndarray]:
-    """An operating point of the check on smooth track as a start — the steady rolling state
-    where the run starts, or (``curving``) steady curving at
+    """An operating point of the check on smooth track as a start for a run of ``seconds`` (s)
+    — the steady rolling state where the run starts, or (``curving``) steady curving at
     :func:`~flexride.solver.stability.curving_position`: (assembly starting there, position
     s and rail-window start s_win0 in m, X, V).
     """
     s = curving_position(scenario) if curving else 0.0
     if s is None:
         raise ValueError("the run meets no curve")
-    smooth = smooth_assembly(asm, s)
+    smooth = smooth_assembly(asm, s, scenario.line, scenario.track.rail_centre_half_distance,
+                             travel=scenario.speed_mps * seconds)
     s_win0 = initial_window_start(smooth, s)
     X, V = steady_state(smooth, s, s_win0, static_equilibrium(smooth, s, s_win0))
     par = smooth.sys.par._replace(s_start=s)
@@ -86,7 +87,7 @@ def probe(scenario: Scenario, asm: Assembly, dt: float, curving: bool = False,
     """Run the kernel for ``seconds`` (s) with the step ``dt`` (s) from the operating point
     (:func:`operating_start`) with a small random perturbation (module docs).
     """
-    start, s, s_win0, X, V = operating_start(scenario, asm, curving)
+    start, s, s_win0, X, V = operating_start(scenario, asm, curving, seconds)
     start = with_step(start, scenario, dt)
     V = V + convected_rail_velocity(start, X)
     X = X + PERTURBATION * np.random.default_rng(seed).standard_normal(X.size)

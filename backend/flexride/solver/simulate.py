@@ -189,15 +189,17 @@ def prepare_run(scenario: Scenario, asm: Assembly, cache: SetupCache | None, che
     setup = run_setup(asm, 0.0, s_win0, False, cache)
     limit = None
     if check or scenario.solver.dt == AUTO:
-        limit = combine([_point_limit(asm, point, cache)
+        limit = combine([_point_limit(scenario, asm, point, cache)
                          for point in operating_points(scenario, float(asm.sys.par.s_start))])
     dt, info = resolve_step(scenario, limit, 1.0 / output_rate_for(scenario))
     return with_step(asm, scenario, dt), ReadyRun(setup.X0, s_win0, info, setup.source)
 
 
-def _point_limit(asm: Assembly, point: OperatingPoint, cache: SetupCache | None) -> dict:
+def _point_limit(scenario: Scenario, asm: Assembly, point: OperatingPoint,
+                 cache: SetupCache | None) -> dict:
     """The step limit at an operating point of the run, on smooth track."""
-    smooth = smooth_assembly(asm, point.s)
+    smooth = smooth_assembly(asm, point.s, scenario.line,
+                             scenario.track.rail_centre_half_distance)
     setup = run_setup(smooth, point.s, initial_window_start(smooth, point.s), True, cache,
                       steady=True, point=point)
     assert setup.stability is not None  # asked for

@@ -14,22 +14,38 @@ import dataclasses
 import numpy as np
 
 from flexride.errors import SimulationError
+from flexride.scenario.line import Line
 from flexride.solver.assemble import Assembly
 from flexride.solver.linearise import accelerations, jacobian
+from flexride.track.line_geometry import build_line_table
 
 #: Grid step of the (zero) irregularity table of a smooth assembly (m).
 IRR_GRID_STEP = 0.05
+#: A smooth assembly's own line table reaches this far beyond the outermost bodies (m).
+LINE_REACH_M = 25.0
 #: Newton tolerance of the steady state: largest coordinate step (m, rad, m/s).
 STEADY_TOL = 1e-10
 
 
-def smooth_assembly(asm: Assembly, s: float) -> Assembly:
-    """``asm`` with a zero irregularity table covering the vehicle at position ``s`` (m)."""
+def smooth_assembly(asm: Assembly, s: float, line: Line | None = None,
+                    rail_half_distance: float = 0.0, travel: float = 0.0) -> Assembly:
+    """``asm`` with a zero irregularity table covering the vehicle at position ``s`` (m) and,
+    if ``line`` is given, the line table of that line around it and ``travel`` (m) ahead (the
+    run's own table covers the run only; the heading it starts from cancels in the relative
+    positions of the bodies). ``rail_half_distance`` (m) as for
+    :func:`~flexride.track.line_geometry.build_line_table`.
+    """
     ws_x = np.array([asm.vehicle.bodies[i].x_ref for i in asm.vehicle.wheelsets])
     s0 = s + float(ws_x.min()) - 5.0
     n = int(np.ceil((float(ws_x.max() - ws_x.min()) + 10.0) / IRR_GRID_STEP)) + 1
     par = asm.sys.par._replace(irr_s0=s0, irr_ds=IRR_GRID_STEP)
     sys0 = asm.sys._replace(par=par, irr=np.zeros((4, n)))
+    if line is not None:
+        xs = [b.x_ref for b in asm.vehicle.bodies]
+        table = build_line_table(line, s + min(xs) - LINE_REACH_M,
+                                 s + max(xs) + LINE_REACH_M + travel, rail_half_distance)
+        sys0 = sys0._replace(line=table.as_array(), par=sys0.par._replace(
+            ln_s0=table.s0, ln_ds=table.ds))
     return dataclasses.replace(asm, sys=sys0)
 
 
