@@ -212,6 +212,25 @@ class LiveServer:
     data_dir: Path
     log: Path | None = None
 
+    def wait_for_solver(self, timeout: float = 900.0) -> None:
+        """Wait until the service's solver kernels are compiled (health ``solver.state``
+        ``ready``): before, the service queues jobs without the submission check. A few
+        seconds when numba's cache holds them; a cold compile otherwise (once per change of
+        the solver's sources).
+        """
+        end = time.monotonic() + timeout
+        while True:
+            try:
+                health = get_json(f"{self.url}/api/v1/health", timeout=5)
+                if (health.get("solver") or {}).get("state") == "ready":
+                    return
+            except (urllib.error.URLError, ConnectionError, TimeoutError, json.JSONDecodeError):
+                pass
+            if self.proc.poll() is not None or time.monotonic() > end:
+                raise RuntimeError(f"the service's solver did not become ready:\n"
+                                   f"{_tail(self.log)}")
+            time.sleep(0.5)
+
     def stop(self, timeout: float = 15.0) -> None:
         """Terminate the server (kill it if it does not stop within ``timeout`` s)."""
         self.proc.terminate()

@@ -137,6 +137,7 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     live = start_server(data_dir, workers=2, cache_dir=cache_dir, log=data_dir / "serve.log",
                         env={"FLEXRIDE_FE_WAIT_S": "0"})
     try:
+        live.wait_for_solver()  # the views expect the submission check, not a queued job
         yield Server(live, cache_dir)
     finally:
         live.stop()

@@ -202,7 +202,11 @@ def _check_kernels() -> list[tuple[Any, tuple[Any, ...]]]:
     from flexride.scenario.presets import load_preset
     from flexride.solver.assemble import assemble
     from flexride.solver.forces import evaluate
-    from flexride.solver.linearise import state_jacobian_columns, workspace
+    from flexride.solver.linearise import (
+        state_jacobian_columns,
+        step_jacobian_columns,
+        workspace,
+    )
 
     sysarr = assemble(load_preset("paper-metro", {"duration_s": 0.01})).sys
     n = sysarr.minv.shape[0]
@@ -210,9 +214,11 @@ def _check_kernels() -> list[tuple[Any, tuple[Any, ...]]]:
     X, V = np.zeros(n), np.zeros(n)
     cols = np.zeros(1, dtype=np.int64)
     out, out_aux = np.zeros((n, 1)), np.zeros((aux.size, 1))
+    step_out = np.zeros((n + cst.size, 2 * n + cst.size))
     return [(evaluate, (sysarr, X, V, 0.0, 0.0, F, A, aux, sn, cst, 0.0)),
             (state_jacobian_columns, (sysarr, X, V, 0.0, 0.0, False, np.ones(1), cols, out,
-                                      out_aux))]
+                                      out_aux)),
+            (step_jacobian_columns, (sysarr, X, V, cst, 0.0, 0.0, 0.0, 0.0, 0.0, step_out))]
 
 
 def load_cached_kernels() -> bool:
@@ -237,9 +243,9 @@ def _indexed() -> bool:
     assembling example arguments; whether an entry fits is for the load to tell).
     """
     from flexride.solver.forces import evaluate
-    from flexride.solver.linearise import state_jacobian_columns
+    from flexride.solver.linearise import state_jacobian_columns, step_jacobian_columns
 
-    kernels: tuple[Any, ...] = (evaluate, state_jacobian_columns)
+    kernels: tuple[Any, ...] = (evaluate, state_jacobian_columns, step_jacobian_columns)
     return all(Path(d._cache._cache_file._index_path).is_file() for d in kernels)
 
 

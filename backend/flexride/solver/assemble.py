@@ -66,11 +66,11 @@ class Assembly:
     step_chosen: bool = True
 
 
-def output_rate_for(scenario: Scenario, dt: float | None = None) -> float:
+def output_rate_for(scenario: Scenario, dt: float | str | None = None) -> float:
     """Output sample rate (Hz): the user's, else max(1 kHz, 20 samples per shortest excitation
     period V/λ_min), rounded so that it divides the step rate 1/dt of the step ``dt`` (s;
-    default the scenario's). With ``solver.dt: auto`` and no ``dt`` the rate is as wanted: the
-    step is then chosen to divide the output interval
+    default the scenario's). With ``auto`` (``dt`` or the scenario's) the rate is as wanted:
+    the step is then chosen to divide the output interval
     (:func:`~flexride.solver.stability.auto_step`).
     """
     step = scenario.solver.dt if dt is None else dt

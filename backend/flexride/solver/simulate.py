@@ -191,7 +191,8 @@ def prepare_run(scenario: Scenario, asm: Assembly, cache: SetupCache | None, che
     if check or scenario.solver.dt == AUTO:
         limit = combine([_point_limit(scenario, asm, point, cache)
                          for point in operating_points(scenario, float(asm.sys.par.s_start))])
-    dt, info = resolve_step(scenario, limit, 1.0 / output_rate_for(scenario))
+    # the interval an automatic step divides (also for the step a refusal suggests)
+    dt, info = resolve_step(scenario, limit, 1.0 / output_rate_for(scenario, AUTO))
     return with_step(asm, scenario, dt), ReadyRun(setup.X0, s_win0, info, setup.source)
 
 

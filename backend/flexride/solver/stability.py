@@ -349,9 +349,9 @@ def check_step(info: dict, dt: float) -> dict:
                 f"a {info['critical_frequency_hz']:.0f} Hz mode ")
         raise StabilityError(
             f"time step solver.dt = {dt:g} s is beyond the stability limit of the solver's "
-            f"one-step map at the {info.get('point', 'static equilibrium')} (largest stable "
-            f"step {info['dt_max']:.3g} s, set by {mode}dominated by {info['critical_dof']}); "
-            f"use solver.dt = auto or {info['dt_suggested']:g} s",
+            f"one-step map: the largest stable step is {info['dt_max']:.3g} s "
+            f"({info.get('point', 'static equilibrium')}), set by {mode}of the "
+            f"{info['critical_dof']}; use solver.dt = auto or {info['dt_suggested']:g} s",
             dt=dt,
             dt_max=info["dt_max"],
             dt_suggested=info["dt_suggested"],
