@@ -19,3 +19,16 @@ def preset(name: str = "paper-metro", **overrides: Any) -> Scenario:
     """A preset scenario with dotted-path overrides given as keyword arguments
     (``solver__dt=5e-5`` becomes ``solver.dt``)."""
     return load_preset(name, {k.replace("__", "."): v for k, v in overrides.items()})
+
+
+def beam_carbody(params: Any, f1_hz: float, n_modes: int = 3, zeta: float = 0.0,
+                 length: float = 19.0) -> Any:
+    """The beam car body (:func:`flexride.fem.beam.beam_carbody`, tested against the closed
+    forms in tests/fem/test_beam.py) with its first ``n_modes`` bending modes: a flexible body
+    independent of the finite-element code."""
+    from flexride.fem.beam import beam_carbody as beam
+    from flexride.fem.beam import free_free_roots
+
+    roots = free_free_roots(n_modes)
+    cutoff = f1_hz * (roots[-1] / roots[0]) ** 2 * (1.0 + 1e-9)
+    return beam(params, f1_hz, cutoff, zeta, length)

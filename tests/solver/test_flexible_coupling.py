@@ -6,46 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import preset
-from flexride.bodies import ModalBody
+from conftest import beam_carbody, preset
 from flexride.solver.assemble import assemble
 from flexride.solver.simulate import integrate, simulate
 from flexride.vehicle.topology import build_vehicle
-
-BETA_L = np.array([4.730040745, 7.853204624, 10.99560784])
-
-
-def beam_carbody(params, f1_hz: float, n_modes: int = 3, zeta: float = 0.0,
-                 length: float = 19.0) -> ModalBody:
-    """Car body whose elastic modes are the vertical bending modes of a uniform free–free
-    beam (mass-normalised, orthogonal to rigid translation and pitch by construction)."""
-    cb = params.carbody
-    m_per_len = cb.mass / length
-    bl = BETA_L[:n_modes]
-    freqs = f1_hz * (bl / bl[0]) ** 2
-    xi = np.linspace(0.0, length, 4001)
-
-    def shape(n, x):
-        b = bl[n] / length
-        sig = (np.cosh(bl[n]) - np.cos(bl[n])) / (np.sinh(bl[n]) - np.sin(bl[n]))
-        phi = np.cosh(b * x) + np.cos(b * x) - sig * (np.sinh(b * x) + np.sin(b * x))
-        dphi = b * (np.sinh(b * x) - np.sin(b * x) - sig * (np.cosh(b * x) + np.cos(b * x)))
-        return phi, dphi
-
-    norms = [np.sqrt(np.trapezoid(m_per_len * shape(n, xi)[0] ** 2, xi)) for n in range(n_modes)]
-
-    def shape_at(pos):
-        out = np.zeros((6, n_modes))
-        x = np.clip(pos[0] + length / 2, 0.0, length)
-        for n in range(n_modes):
-            phi, dphi = shape(n, x)
-            out[2, n] = phi / norms[n]
-            out[4, n] = -dphi / norms[n]  # pitch rotation: uz = −θy·x
-        return out
-
-    return ModalBody(name="carbody", mass=cb.mass, inertia=np.array([cb.ixx, cb.iyy, cb.izz]),
-                     x_ref=0.0, cg_height=cb.cg_height, elastic_frequencies=freqs,
-                     elastic_damping=np.full(n_modes, zeta), shape_at=shape_at)
 
 
 def test_beam_modes_are_orthogonal_to_rigid_modes():

@@ -44,8 +44,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import PROFILES, preset
-from flexride.bodies import ModalBody
+from conftest import PROFILES, beam_carbody, preset
 from flexride.solver.assemble import assemble
 from flexride.solver.forces import evaluate
 from flexride.solver.static import initial_window_start
@@ -409,36 +408,6 @@ def assert_close(a_ker, a_ref, asm, rtol):
 # ----------------------------------------------------------------------------- flexible body
 
 
-def beam_carbody(params, f1_hz=8.0, n_modes=2, zeta=0.02, length=19.0) -> ModalBody:
-    """Car body with free–free beam bending modes (vertical, mass-normalised)."""
-    cb = params.carbody
-    bl = np.array([4.730040745, 7.853204624, 10.99560784])[:n_modes]
-    xi = np.linspace(0.0, length, 4001)
-
-    def shape(n, x):
-        b = bl[n] / length
-        sig = (np.cosh(bl[n]) - np.cos(bl[n])) / (np.sinh(bl[n]) - np.sin(bl[n]))
-        return (np.cosh(b * x) + np.cos(b * x) - sig * (np.sinh(b * x) + np.sin(b * x)),
-                b * (np.sinh(b * x) - np.sin(b * x) - sig * (np.cosh(b * x) + np.cos(b * x))))
-
-    norms = [math.sqrt(np.trapezoid(cb.mass / length * shape(n, xi)[0] ** 2, xi))
-             for n in range(n_modes)]
-
-    def shape_at(pos):
-        out = np.zeros((6, n_modes))
-        x = float(np.clip(pos[0] + length / 2, 0.0, length))
-        for n in range(n_modes):
-            phi, dphi = shape(n, x)
-            out[2, n] = phi / norms[n]
-            out[4, n] = -dphi / norms[n]
-        return out
-
-    return ModalBody(name="carbody", mass=cb.mass, inertia=np.array([cb.ixx, cb.iyy, cb.izz]),
-                     x_ref=0.0, cg_height=cb.cg_height,
-                     elastic_frequencies=f1_hz * (bl / bl[0]) ** 2,
-                     elastic_damping=np.full(n_modes, zeta), shape_at=shape_at)
-
-
 # ----------------------------------------------------------------------------- tests
 
 
@@ -449,7 +418,7 @@ def case(request):
     assert sc.contact.hertz_tread == "worn" and sc.line.kind == "straight"  # the twin's scope
     veh = None
     if request.param == "flexible":
-        veh = build_vehicle(sc.vehicle, sc.output, carbody=beam_carbody(sc.vehicle))
+        veh = build_vehicle(sc.vehicle, sc.output, carbody=beam_carbody(sc.vehicle, 8.0, 2, 0.02))
     asm = assemble(sc, vehicle=veh)
     return sc, asm, initial_window_start(asm, S_CENTRE)
 
@@ -502,7 +471,7 @@ def case_profiles(request):
     assert sc.line.kind == "straight"
     veh = None
     if request.param == "flexible":
-        veh = build_vehicle(sc.vehicle, sc.output, carbody=beam_carbody(sc.vehicle))
+        veh = build_vehicle(sc.vehicle, sc.output, carbody=beam_carbody(sc.vehicle, 8.0, 2, 0.02))
     asm = assemble(sc, vehicle=veh)
     assert asm.profiles is not None
     return sc, asm, initial_window_start(asm, S_CENTRE)

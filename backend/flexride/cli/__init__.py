@@ -50,7 +50,8 @@ def _parse_set(items: list[str]) -> dict[str, Any]:
 def command_overrides(set_: list[str] | None, speed: float | None, body_model: str | None,
                       duration: float | None = None) -> dict[str, Any]:
     """The overrides of a command's ``--set PATH=VALUE`` options and its shortcuts
-    ``--speed`` (km/h), ``--body-model`` (rigid or flexible: car body and both frames) and
+    ``--speed`` (km/h), ``--body-model`` (rigid or flexible: car body and both frames; beam:
+    the car body as a beam, the frames rigid) and
     ``--duration`` (s, replacing a distance).
     """
     overrides = _parse_set(set_ or [])
@@ -60,10 +61,11 @@ def command_overrides(set_: list[str] | None, speed: float | None, body_model: s
     if speed is not None:
         overrides["speed_kmh"] = speed
     if body_model is not None:
-        if body_model not in ("rigid", "flexible"):
-            raise ScenarioError(f"--body-model must be rigid or flexible, got {body_model!r}")
+        if body_model not in ("rigid", "flexible", "beam"):
+            raise ScenarioError(f"--body-model must be rigid, flexible or beam, got "
+                                f"{body_model!r}")
         overrides["bodies.carbody.model"] = body_model
-        overrides["bodies.frames.model"] = body_model
+        overrides["bodies.frames.model"] = "rigid" if body_model == "beam" else body_model
     return overrides
 
 
@@ -167,7 +169,9 @@ def run(
         typer.Option("--set", help="Override any field: PATH=VALUE, e.g. solver.dt=5e-5"),
     ] = None,
     body_model: Annotated[str | None, typer.Option(
-        "--body-model", help="rigid or flexible: switches the car body and both frames")] = None,
+        "--body-model", help="rigid or flexible: switches the car body and both frames; beam: "
+        "the car body as a free–free beam (bodies.carbody.first_bending_hz), frames "
+        "rigid")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON")] = False,
 ) -> None:
     """Simulate a scenario or preset, write the HDF5 file and print a summary."""

@@ -182,5 +182,5 @@ def sweep_scenarios(scenarios: Sequence[Scenario], parameter: str, values: list[
 
 def _shared_vehicle(scenario: Scenario) -> VehicleModel | None:
     """The vehicle of ``scenario`` when it has flexible bodies (worth building once)."""
-    flexible = any(getattr(scenario.bodies, b).model == "flexible" for b in ("carbody", "frames"))
-    return vehicle_for(scenario) if flexible else None
+    elastic = any(getattr(scenario.bodies, b).elastic for b in ("carbody", "frames"))
+    return vehicle_for(scenario) if elastic else None

@@ -1,10 +1,12 @@
-"""Per-body modelling choice: rigid, or flexible from a reduced finite-element model."""
+"""Per-body modelling choice: rigid, flexible from a reduced finite-element model, or (the car
+body) a free–free beam.
+"""
 
 from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field
+from pydantic import Field, field_validator
 
 from flexride.scenario.base import Schema, quantity
 
@@ -12,7 +14,10 @@ from flexride.scenario.base import Schema, quantity
 class BodyModel(Schema):
     """How one body (or both bogie frames) is modelled."""
 
-    model: Literal["rigid", "flexible"] = Field("rigid", description="Rigid or flexible body")
+    model: Literal["rigid", "flexible", "beam"] = Field(
+        "rigid",
+        description="Rigid, flexible (from the FE model) or beam (the car body only: a "
+        "free–free Euler–Bernoulli beam bending first at first_bending_hz)")
     reduction: Literal["modal", "guyan", "craig-bampton"] = Field(
         "modal",
         description="Reduction of the FE model (free-interface modal truncation, Guyan, "
@@ -38,6 +43,20 @@ class BodyModel(Schema):
     element_size_m: float = quantity(
         0.2, ge=0.05, le=1.0, description="Finite-element size of the generated mesh", unit="m"
     )
+    first_bending_hz: float = quantity(
+        10.0, ge=2.0, le=50.0, unit="Hz",
+        description="First vertical bending frequency of the beam car body (model: beam)",
+    )
+
+    @property
+    def elastic(self) -> bool:
+        """Whether the body has elastic modes (kept up to ``cutoff_hz``)."""
+        return self.model != "rigid"
+
+    @property
+    def finite_elements(self) -> bool:
+        """Whether the body is built from its finite-element model."""
+        return self.model == "flexible"
 
 
 class BodyModels(Schema):
@@ -50,3 +69,11 @@ class BodyModels(Schema):
         default_factory=BodyModel,
         description="Both bogie frames: rigid, or flexible from their FE model",
     )
+
+    @field_validator("frames")
+    @classmethod
+    def _frames_are_no_beams(cls, frames: BodyModel) -> BodyModel:
+        if frames.model == "beam":
+            raise ValueError("model beam is a car-body model; the frames are rigid or "
+                             "flexible")
+        return frames

@@ -78,7 +78,7 @@ def required_cutoffs(scenario: Scenario) -> dict[str, float]:
     for part in BODY_PARTS:
         body = getattr(scenario.bodies, part)
         hz = sufficient_cutoff_hz(f_exc, body.cutoff_hz)
-        if body.model == "flexible" and hz > body.cutoff_hz:
+        if body.elastic and hz > body.cutoff_hz:
             need[part] = hz
     return need
 
@@ -90,7 +90,7 @@ def with_cutoffs(scenario: Scenario, cutoffs: Mapping[str, float]) -> Scenario:
     bodies = scenario.bodies
     for part, hz in cutoffs.items():
         body = getattr(bodies, part)
-        if body.model == "flexible" and hz > body.cutoff_hz:
+        if body.elastic and hz > body.cutoff_hz:
             bodies = bodies.model_copy(update={part: body.model_copy(update={"cutoff_hz": hz})})
     return scenario.model_copy(update={"bodies": bodies})
 

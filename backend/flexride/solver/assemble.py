@@ -148,14 +148,25 @@ def _flexible(kind: Literal["carbody", "frame"], scenario: Scenario, settings, n
     return fb.body
 
 
+def _beam(scenario: Scenario, settings):
+    from flexride.fem.beam import beam_carbody
+    from flexride.fem.carbody import CarBodyParams
+
+    return beam_carbody(scenario.vehicle, settings.first_bending_hz, settings.cutoff_hz,
+                        settings.damping_ratio, CarBodyParams().length)
+
+
 def vehicle_for(scenario: Scenario) -> VehicleModel:
     """The vehicle of ``scenario``: rigid bodies, or flexible car body and/or frames built from
-    their reduced finite-element models (cached by content hash in :mod:`flexride.fem`).
+    their reduced finite-element models (cached by content hash in :mod:`flexride.fem`), or a
+    beam car body (:mod:`flexride.fem.beam`).
     """
     bm = scenario.bodies
     carbody = frames = None
     if bm.carbody.model == "flexible":
         carbody = _flexible("carbody", scenario, bm.carbody, "carbody", 0.0)
+    elif bm.carbody.model == "beam":
+        carbody = _beam(scenario, bm.carbody)
     if bm.frames.model == "flexible":
         lc = scenario.vehicle.geometry.bogie_centre_spacing / 2.0
         frames = (_flexible("frame", scenario, bm.frames, "frame1", lc),

@@ -154,7 +154,7 @@ def check_bodies(scenario: Scenario, limits: Limits) -> None:
     """Refuse flexible bodies whose FE build is beyond ``limits``."""
     for name, kind in (("carbody", "carbody"), ("frames", "frame")):
         body = getattr(scenario.bodies, name)
-        if body.model == "flexible":
+        if body.finite_elements:
             check_fe_build(kind, scenario.vehicle, body.element_size_m, body.cutoff_hz, limits,
                            ("bodies", name))
 

@@ -142,7 +142,7 @@ def check_installable(scenario: Scenario) -> None:
     """
     bodies = scenario.bodies
     flex = [f"bodies.{b}.model" for b in ("carbody", "frames")
-            if getattr(bodies, b).model == "flexible"]
+            if getattr(bodies, b).finite_elements]
     if flex and not flexible_available():
         raise ScenarioError(
             f"scenario: {flex[0]}: flexible bodies are not available in this installation "
