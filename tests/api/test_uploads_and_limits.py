@@ -7,8 +7,6 @@ import hashlib
 
 import pytest
 
-from conftest import preset
-
 API = "/api/v1"
 CSV = b"distance_m,vertical,alignment\n0,0,0\n0.5,0.0004,0.0001\n1.0,0.0007,-0.0002\n1.5,0,0\n"
 
@@ -123,11 +121,13 @@ def test_too_many_output_points(sqlite_client):
 
 
 def test_too_many_steps(sqlite_client):
+    # a given step (with solver.dt: auto, the presets' default, the step is chosen by the
+    # set-up and the run's size is bounded by its results instead)
     item = _item(sqlite_client.post(API + "/jobs", json={
-        "preset": "paper-metro", "overrides": {"duration_s": 3600, "distance_m": None}}))
+        "preset": "paper-metro",
+        "overrides": {"duration_s": 3600, "distance_m": None, "solver.dt": 6.25e-5}}))
     assert item["loc"] == ["duration_s"]
-    steps = round(3600 / preset("paper-metro").solver.dt)  # 43,200,000 at the presets' step
-    assert f"{steps:,} time steps" in item["msg"] and "5,000,000" in item["msg"]
+    assert "57,600,000 time steps" in item["msg"] and "5,000,000" in item["msg"]
 
 
 def test_result_size_is_estimated_from_channels_and_samples(make_client):
@@ -195,3 +195,14 @@ def test_the_limits_are_in_the_openapi_document(make_client):
     text = client.get(API + "/openapi.json").json()["info"]["description"]
     assert "123,456 time steps" in text and "42 recorded car-body points" in text
     assert "FLEXRIDE_MAX_RESULT_MB" in text and "FLEXRIDE_MAX_FE_DOFS" in text
+
+
+def test_too_many_steps_of_the_automatic_step(sqlite_client):
+    """With ``solver.dt: auto`` the steps are known once the submission check has chosen the
+    step: a run whose results are small but whose steps are too many is refused then, at the
+    length field."""
+    item = _item(sqlite_client.post(API + "/jobs", json={
+        "preset": "paper-metro",
+        "overrides": {"duration_s": 3600, "distance_m": None, "output.rate_hz": 20.0}}))
+    assert item["loc"] == ["duration_s"]
+    assert "time steps" in item["msg"] and "5,000,000" in item["msg"]

@@ -47,3 +47,10 @@ def test_missing_length_and_both_lengths():
         preset(duration_s=None)
     with pytest.raises(ScenarioError, match="exactly one of duration_s"):
         preset(distance_m=100.0)
+
+
+def test_automatic_step_count_is_bounded_before_the_run():
+    """``simulate(max_steps=…)`` (the worker's bound from the service's settings) refuses a run
+    whose automatic step makes too many steps, at the length field, before it runs."""
+    with pytest.raises(ScenarioError, match=r"duration_s: 16,000 time steps .* limit of 1,000"):
+        simulate(preset(duration_s=1.0), max_steps=1000)

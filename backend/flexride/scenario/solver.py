@@ -88,7 +88,8 @@ class Output(Schema):
         le=1.0e6,
         unit="Hz",
         description="Output sample rate. Default: at least 1 kHz and 20 samples per period of "
-        "the shortest excitation wavelength passed at the running speed, rounded to divide 1/dt",
+        "the shortest excitation wavelength passed at the running speed; a given step's rate "
+        "is rounded to divide 1/dt (an automatic step divides the output interval)",
     )
     points: list[OutputPoint] = Field(
         default_factory=list,
