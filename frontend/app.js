@@ -98,11 +98,19 @@ async function checkHealth() {
   clearTimeout(healthTimer);
   try {
     const hl = await api.health();
-    const live = (hl.workers || []).filter((w) => w.alive).length;
     statusEl.className = `service-status ok-${hl.status}`;
-    statusEl.textContent = `Service ${hl.status} · ${hl.runner} runner · ${live} worker${live === 1 ? "" : "s"}`;
-    statusEl.title = hl.api?.detail || "";
-    document.getElementById("version").textContent = `flexride ${hl.version}`;
+    if (hl.view === "public") { // a service with a token shows its details to operators only
+      const notOk = Object.entries(hl.components || {}).filter(([, state]) => state !== "ok");
+      statusEl.textContent = [`Service ${hl.status}`, ...notOk.map(([name, state]) => `${name} ${state}`)].join(" · ");
+      statusEl.title = "";
+      const v = await api.version();
+      document.getElementById("version").textContent = `flexride ${v.flexride}`;
+    } else {
+      const live = (hl.workers || []).filter((w) => w.alive).length;
+      statusEl.textContent = `Service ${hl.status} · ${hl.runner} runner · ${live} worker${live === 1 ? "" : "s"}`;
+      statusEl.title = hl.api?.detail || "";
+      document.getElementById("version").textContent = `flexride ${hl.version}`;
+    }
     healthTimer = setTimeout(checkHealth, 30000);
   } catch (err) {
     if (err.status === 503 && err.body) {

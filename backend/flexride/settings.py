@@ -12,8 +12,9 @@ from __future__ import annotations
 import os
 import re
 from functools import lru_cache
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 from typing import Literal
+from urllib.parse import urlsplit
 
 from pydantic import Field, computed_field, field_validator
 from pydantic_core import PydanticCustomError
@@ -148,6 +149,29 @@ class Settings(BaseSettings):
     )
     max_body_bytes: int = Field(
         4 * 1024 * 1024, ge=1024, description="Largest accepted request body (bytes); 413 beyond"
+    )
+    header_timeout_s: float = Field(
+        10.0, gt=0.0, le=600.0,
+        description="Time a client has to send a request's line and headers (s); 408 and the "
+        "connection closed beyond",
+    )
+    body_idle_timeout_s: float = Field(
+        10.0, gt=0.0, le=600.0,
+        description="Longest pause while a request's body arrives (s); 408 beyond",
+    )
+    body_timeout_s: float = Field(
+        120.0, gt=0.0, le=3600.0,
+        description="Time a client has to send a whole request body (s); 408 beyond",
+    )
+    max_connections_per_client: int = Field(
+        64, ge=1, le=100_000,
+        description="Open connections one client address may hold at once; a request on one "
+        "more gets 429",
+    )
+    max_connections: int = Field(
+        1024, ge=1, le=1_000_000,
+        description="Open connections the API serves at once (all clients); requests beyond "
+        "get 503",
     )
     max_attempts: int = Field(
         2, ge=1, le=10, description="Starts of a job before a lost worker marks it failed"
@@ -315,12 +339,28 @@ def get_settings() -> Settings:
     return Settings()
 
 
-def redact_url(url: str | None) -> str | None:
-    """``url`` with any password replaced by ``***`` (for health output and logs)."""
-    if not url or "@" not in url or "://" not in url:
+def url_location(url: str | None) -> str | None:
+    """Where ``url`` points, for health answers: scheme, host, port and database, without
+    user, password, query, or a file's directory (no server path).
+
+    Examples
+    --------
+    >>> url_location("postgresql+psycopg://u:secret@db:5432/flexride?options=-cx%3Dy")
+    'postgresql://db:5432/flexride'
+    >>> url_location("sqlite:////srv/flexride/flexride.db")
+    'sqlite:flexride.db'
+    >>> url_location("redis://:secret@cache:6379/0")
+    'redis://cache:6379/0'
+    """
+    if not url:
         return url
-    scheme, rest = url.split("://", 1)
-    creds, host = rest.rsplit("@", 1)
-    if ":" in creds:
-        creds = creds.split(":", 1)[0] + ":***"
-    return f"{scheme}://{creds}@{host}"
+    parts = urlsplit(url)
+    scheme = parts.scheme.split("+", 1)[0]
+    if scheme == "sqlite":
+        return f"sqlite:{PurePosixPath(parts.path).name or ':memory:'}"
+    host = parts.hostname or ""
+    try:
+        port = f":{parts.port}" if parts.port else ""
+    except ValueError:
+        port = ""
+    return f"{scheme}://{f'[{host}]' if ':' in host else host}{port}{parts.path}"

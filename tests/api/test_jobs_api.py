@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from service.svc_testkit import SHORT, insert_finished_job, services, synthetic_results
 
+UNKNOWN = "5f0c1e9a-0000-4000-8000-00000000abcd"
+"""A well-formed job id that no job has."""
+
 API = "/api/v1"
 
 
@@ -78,7 +81,8 @@ def test_list_filter_page_cancel_delete(client):
     assert client.delete(f"{API}/jobs/{ids[1]}").status_code == 204
     assert client.get(f"{API}/jobs/{ids[1]}").status_code == 404
     assert client.delete(f"{API}/jobs/{ids[1]}").status_code == 404
-    assert client.post(f"{API}/jobs/unknown/cancel").status_code == 404
+    assert client.post(f"{API}/jobs/{UNKNOWN}/cancel").status_code == 404
+    assert client.post(f"{API}/jobs/unknown/cancel").status_code == 422  # not an id
     assert client.get(f"{API}/jobs/{ids[2]}/summary").status_code == 409
 
 

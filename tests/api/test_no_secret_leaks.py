@@ -15,11 +15,11 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 from live_server import start_server  # noqa: E402
 
+from api.bad_requests import hostile_requests  # noqa: E402
+
 TOKEN = "leak-probe-TOKEN-7f3a9c1e5b2d"
 OTHER = "leak-probe-ENV-0d9e8f7a6b5c"
 API = "/api/v1"
-PATHS = ["/proc/self/environ", "/proc/self/cmdline", "/etc/passwd", "../../../../etc/passwd",
-         "/dev/zero", "~/.bash_history", "flexride.db", "results/x.h5"]
 
 
 @pytest.fixture(scope="module")
@@ -31,38 +31,6 @@ def server(tmp_path_factory):
                             "FLEXRIDE_ALLOWED_HOSTS": "127.0.0.1"})
     yield srv
     srv.stop()
-
-
-def _hostile_requests() -> list[tuple[str, str, dict]]:
-    """(method, path, httpx keyword arguments) of requests that try to reach server files or
-    provoke error texts."""
-    reqs: list[tuple[str, str, dict]] = []
-    for p in PATHS:
-        measured = {"kind": "measured", "path": p}
-        for ep in ("/jobs/validate", "/jobs"):
-            reqs.append(("POST", ep, {"json": {"preset": "paper-metro",
-                                                "overrides": {"excitation": [measured]}}}))
-            reqs.append(("POST", ep, {"json": {"scenario": {"preset": "paper-metro",
-                                                             "excitation": [measured]}}}))
-        reqs.append(("POST", "/jobs", {"json": {"preset": p}}))
-        reqs.append(("POST", "/jobs/validate", {"json": {"preset": "paper-metro",
-                                                         "overrides": {p: 1}}}))
-        reqs.append(("GET", f"/jobs/{p}", {}))
-        reqs.append(("GET", f"/fe/carbody?preset={p}", {}))
-        reqs.append(("GET", f"/irregularities/{p}", {}))
-        reqs.append(("GET", f"/presets/{p}", {}))
-        reqs.append(("POST", f"/irregularities?distance_column={p}",
-                     {"content": Path("/proc/self/environ").read_bytes()}))
-        reqs.append(("GET", f"/profiles/{p}", {}))
-        reqs.append(("POST", "/jobs/validate", {"json": {"preset": "paper-metro", "overrides": {
-            "contact": {"geometry": "profiles", "wheel": {"path": p}}}}}))
-    reqs.append(("POST", "/irregularities", {"content": f"TOKEN={TOKEN}\n".encode()}))
-    for fmt in ("txt", "prw", "ban"):
-        reqs.append(("POST", f"/profiles?format={fmt}&kind=rail",
-                     {"content": Path("/proc/self/environ").read_bytes()}))
-        reqs.append(("POST", f"/profiles?format={fmt}&kind=wheel",
-                     {"content": f"0 {TOKEN}\n1 2\n".encode()}))
-    return reqs
 
 
 def _get_endpoints(client: httpx.Client) -> list[str]:
@@ -80,7 +48,7 @@ def test_no_answer_contains_a_secret(server):
     sent = 0
     auth = {"Authorization": f"Bearer {TOKEN}"}
     with httpx.Client(base_url=server.url, timeout=60) as client:
-        requests = [(m, API + p, kw) for m, p, kw in _hostile_requests()]
+        requests = [(m, API + p, kw) for m, p, kw in hostile_requests(TOKEN)]
         requests += [("GET", p, {}) for p in _get_endpoints(client)]
         for method, path, kw in requests:
             for headers in ({}, auth):

@@ -118,7 +118,7 @@ def test_cached_answers_equal_fresh_ones_and_errors_are_not_kept(finished):
     for _ in range(2):
         r = client.get(f"{API}/jobs/{job_id}/series", params={"channels": ["carbody.XX.acc.z"]})
         assert r.status_code == 422
-    assert client.get(f"{API}/jobs/nope/summary").status_code == 404
+    assert client.get(f"{API}/jobs/{'0' * 32}/summary").status_code == 404
 
 
 def test_gzip_as_the_middleware_answers(finished):

@@ -90,7 +90,7 @@ def test_answers_with_unfinished_jobs_are_not_kept(sqlite_client):
     again, queries = _reads(sqlite_client, svc, f"{API}/jobs/{job_id}")
     assert queries > 0  # read again: its queue time moves with the clock
     assert again["queue_time_s"] >= first["queue_time_s"]
-    assert not settled(job_out(svc.store.get_job(job_id), svc))
+    assert not settled(job_out(svc.store.get_job(job_id)))
 
 
 def test_kept_answers_equal_answers_read_from_the_records(two_jobs, monkeypatch):

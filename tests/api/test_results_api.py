@@ -68,7 +68,9 @@ def test_series_time_range_and_limits(finished):
     r = client.get(f"{API}/jobs/{job_id}/series", params={"channels": ["carbody.XX.acc.z"]})
     assert r.status_code == 422 and "carbody.PR.acc.z" in r.json()["message"]
     assert client.get(f"{API}/jobs/{job_id}/series").status_code == 422
-    assert client.get(f"{API}/jobs/nope/series", params={"channels": [PR_Z]}).status_code == 404
+    for job, code in (("5f0c1e9a00004000800000000000abcd", 404), ("nope", 422)):
+        r = client.get(f"{API}/jobs/{job}/series", params={"channels": [PR_Z]})
+        assert r.status_code == code, (job, r.text)
 
 
 def test_spectrum_and_psd_find_the_sines(finished):

@@ -1,8 +1,9 @@
 """Property-based runs over the OpenAPI schema (schemathesis): generated requests, valid and
-invalid, against the real app in-process (about 1,800) and against a live ``flexride serve``
-with an API token (at least 500, over HTTP, the token sent with each); none may produce a
-server error, and every response must match the documented status codes, content types and
-schemas (405 with the complete ``Allow`` header for methods a path does not have).
+invalid, against the real app in-process on SQLite and on PostgreSQL (about 1,400 each, the
+same requests) and against a live ``flexride serve`` with an API token (at least 500, over
+HTTP, the token sent with each); none may produce a server error, and every response must
+match the documented status codes, content types and schemas (405 with the complete ``Allow``
+header for methods a path does not have).
 
 Jobs are recorded, not run (``runner=none``): generated scenarios are checked at submission
 (the stability check included) but no simulation starts. FE exports come from a stand-in build
@@ -13,6 +14,7 @@ request with the token would start real builds (minutes of CPU each).
 from __future__ import annotations
 
 import atexit
+import contextlib
 import shutil
 import sys
 import tempfile
@@ -42,6 +44,7 @@ from service.svc_testkit import (
     TEST_TOKEN,
     insert_finished_job,
     make_settings,
+    pg_schema,
     synthetic_results,
     use_fe_builds,
 )
@@ -49,7 +52,7 @@ from service.svc_testkit import (
 sys.path.insert(0, str(REPO / "tools"))
 from live_server import start_server
 
-SENT: list[int] = []
+SENT: dict[str, list[int]] = {"sqlite": [], "postgresql": []}
 AUTH = {"Authorization": f"Bearer {TEST_TOKEN}"}
 LIVE_SENT: list[int] = []
 LIVE_SKIPPED: list[str] = []
@@ -59,9 +62,13 @@ LIVE_EXAMPLES = 15
 """Examples per operation and mode (valid, invalid data) in the live run."""
 
 
-def _count(ctx, response, case):
-    """Counts the generated requests (and their status codes)."""
-    SENT.append(response.status_code)
+def _counter(db: str):
+    def count(ctx, response, case):
+        """Counts the generated requests (and their status codes)."""
+        SENT[db].append(response.status_code)
+
+    count.__name__ = f"count_{db}"
+    return count
 
 
 def _count_live(ctx, response, case):
@@ -78,31 +85,58 @@ def _count_live(ctx, response, case):
 CHECKS = [not_a_server_error, status_code_conformance, content_type_conformance,
           response_schema_conformance, unsupported_method, allow_header_conformance]
 
+EXAMPLES = 9
+"""Examples per operation of each in-process run (derandomized: the same on both stores)."""
 _DATA = Path(tempfile.mkdtemp(prefix="flexride-st-"))
 atexit.register(shutil.rmtree, _DATA, ignore_errors=True)
-APP = create_app(make_settings(_DATA, max_study_jobs=8, max_body_bytes=64 * 1024))
-use_fe_builds(APP, wait_s=2.0)  # FE exports from a quick stand-in, not real builds
-schema = schemathesis.openapi.from_asgi("/api/v1/openapi.json", APP)
+_PG = contextlib.ExitStack()
+atexit.register(_PG.close)
+
+
+def _app(db: str):
+    """The app on ``db`` (a fresh PostgreSQL schema, or SQLite), FE exports from a quick
+    stand-in (not real builds)."""
+    url = _PG.enter_context(pg_schema()) if db == "postgresql" else None
+    app = create_app(make_settings(_DATA / db, max_study_jobs=8, max_body_bytes=64 * 1024,
+                                   database_url=url))
+    use_fe_builds(app, wait_s=2.0)
+    return app
+
+
+APPS = {db: _app(db) for db in SENT}
+schema = schemathesis.openapi.from_asgi("/api/v1/openapi.json", APPS["sqlite"])
+schema_pg = schemathesis.openapi.from_asgi("/api/v1/openapi.json", APPS["postgresql"])
 
 
 @pytest.fixture(scope="module", autouse=True)
 def finished_job():
-    svc = APP.state.services
-    return insert_finished_job(svc.store, svc.files, synthetic_results(duration=6.0))
+    for app in APPS.values():
+        svc = app.state.services
+        insert_finished_job(svc.store, svc.files, synthetic_results(duration=6.0))
 
 
 @schema.parametrize()
-@settings(max_examples=12, deadline=None, derandomize=True,
+@settings(max_examples=EXAMPLES, deadline=None, derandomize=True,
           suppress_health_check=list(HealthCheck))
 @pytest.mark.filterwarnings("ignore")
 def test_no_request_fails_the_api(case):
-    case.call_and_validate(checks=[*CHECKS, _count])
+    case.call_and_validate(checks=[*CHECKS, _counter("sqlite")])
 
 
-def test_a_few_hundred_requests_were_sent():
-    assert len(SENT) >= 200, len(SENT)
-    codes = Counter(SENT)
-    print(f"schemathesis: {len(SENT)} requests, status codes {dict(codes)}")
+@schema_pg.parametrize()
+@settings(max_examples=EXAMPLES, deadline=None, derandomize=True,
+          suppress_health_check=list(HealthCheck))
+@pytest.mark.filterwarnings("ignore")
+def test_no_request_fails_the_api_on_postgresql(case):
+    case.call_and_validate(checks=[*CHECKS, _counter("postgresql")])
+
+
+@pytest.mark.parametrize("db", list(SENT))
+def test_a_few_hundred_requests_were_sent(db):
+    sent = SENT[db]
+    assert len(sent) >= 200, len(sent)
+    codes = Counter(sent)
+    print(f"schemathesis on {db}: {len(sent)} requests, status codes {dict(codes)}")
     assert not [c for c in codes if c >= 500], codes
     assert codes[200] and codes[201] and codes[422] and codes[404], codes
 

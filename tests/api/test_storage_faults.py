@@ -7,7 +7,6 @@ results fails before it simulates."""
 from __future__ import annotations
 
 import os
-import subprocess
 import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -16,55 +15,11 @@ from pathlib import Path
 import pytest
 from sqlalchemy import text
 
-from service.svc_testkit import pg_schema
+from service.svc_testkit import pg_schema, tmpfs
 
 API = "/api/v1"
 CSV = b"distance_m,vertical\n0,0\n1,0.001\n2,0\n"
 JOB = {"preset": "paper-metro", "overrides": {"duration_s": 0.5, "distance_m": None}}
-
-
-class Tmpfs:
-    """A small tmpfs mounted on a directory; ``read_only()`` / ``writable()`` remount it."""
-
-    def __init__(self, path: Path, size_kb: int):
-        self.path = path
-        path.mkdir(parents=True, exist_ok=True)
-        self._mount("-t", "tmpfs", "-o", f"size={size_kb}k", "tmpfs", str(path))
-
-    @staticmethod
-    def _mount(*args: str) -> None:
-        r = subprocess.run(["mount", *args], capture_output=True, text=True)
-        if r.returncode != 0:
-            pytest.fail(f"storage-fault tests mount a tmpfs and need root: {r.stderr.strip()}")
-
-    def read_only(self) -> None:
-        self._mount("-o", "remount,ro", str(self.path))
-
-    def writable(self) -> None:
-        self._mount("-o", "remount,rw", str(self.path))
-
-    def fill(self) -> None:
-        """Fill the file system up to the last byte."""
-        fd = os.open(self.path / "filler", os.O_WRONLY | os.O_CREAT)
-        try:
-            while os.write(fd, b"\0" * 4096):
-                pass
-        except OSError:
-            pass
-        finally:
-            os.close(fd)
-
-    def umount(self) -> None:
-        subprocess.run(["umount", "-l", str(self.path)], check=False)
-
-
-@contextmanager
-def tmpfs(path: Path, size_kb: int = 4096) -> Iterator[Tmpfs]:
-    fs = Tmpfs(path, size_kb)
-    try:
-        yield fs
-    finally:
-        fs.umount()
 
 
 @pytest.fixture(params=["sqlite", "postgresql"])

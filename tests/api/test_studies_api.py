@@ -123,7 +123,8 @@ def test_custom_axes_parameters_and_errors(sqlite_client, make_client):
     small = make_client(max_study_jobs=4)
     r = small.post(f"{API}/studies", json={"preset": "paper-table3", "overrides": QUICK})
     assert r.status_code == 422 and "16 jobs" in r.json()["message"]
-    assert c.get(f"{API}/studies/unknown").status_code == 404
+    assert c.get(f"{API}/studies/{'0' * 32}").status_code == 404
+    assert c.get(f"{API}/studies/unknown").status_code == 422  # not an id
 
 
 def test_cancel_and_delete_a_study(sqlite_client):

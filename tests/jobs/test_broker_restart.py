@@ -1,9 +1,11 @@
 """A broker that is down or restarts without persistence loses messages, not jobs: submission
 still succeeds (the job stays queued) and the runner sends the queued jobs again once the
-broker is back. Uses a private redis-server on a free port (the shared one is not touched)."""
+broker is back; with the records in SQLite and in PostgreSQL. Uses a private redis-server on a
+free port (the shared one is not touched)."""
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 import subprocess
 import time
@@ -12,7 +14,7 @@ import warnings
 import pytest
 import redis
 
-from service.svc_testkit import free_port, make_settings, wait_for
+from service.svc_testkit import free_port, make_settings, pg_schema, wait_for
 
 API = "/api/v1"
 pytestmark = pytest.mark.filterwarnings("ignore:Using `httpx`")
@@ -41,7 +43,8 @@ def _stop(proc: subprocess.Popen) -> None:
     proc.wait(10)
 
 
-def test_jobs_survive_a_broker_outage_and_restart(tmp_path):
+@pytest.mark.parametrize("db", ["sqlite", "postgresql"])
+def test_jobs_survive_a_broker_outage_and_restart(tmp_path, db):
     from fastapi.testclient import TestClient
 
     from flexride.api import create_app
@@ -49,7 +52,9 @@ def test_jobs_survive_a_broker_outage_and_restart(tmp_path):
     port = free_port()
     server = _redis_server(port, tmp_path)
     queue = "flexride-restart-test"
-    settings = make_settings(tmp_path / "data", runner="auto",
+    records = contextlib.ExitStack()
+    url = records.enter_context(pg_schema()) if db == "postgresql" else None
+    settings = make_settings(tmp_path / "data", runner="auto", database_url=url,
                              broker_url=f"redis://127.0.0.1:{port}/0", celery_queue=queue,
                              reaper_interval_s=3600.0)  # passes are run by hand below
     r = redis.Redis(port=port)
@@ -84,3 +89,4 @@ def test_jobs_survive_a_broker_outage_and_restart(tmp_path):
             assert client.get(f"{API}/jobs/{first}").json()["status"] == "queued"
     finally:
         _stop(server)
+        records.close()

@@ -59,12 +59,54 @@ def pg_schema() -> Iterator[str]:
     try:
         yield f"{PG_BASE}?options=-csearch_path%3D{name}"
     finally:
-        from flexride.store.db import _ENGINES
-
-        for key in [k for k in _ENGINES if name in k[1]]:
-            _ENGINES.pop(key).dispose()
+        forget_engines(name)
         with psycopg.connect(plain, autocommit=True, connect_timeout=5) as conn:
             conn.execute(f'DROP SCHEMA IF EXISTS "{name}" CASCADE')
+
+
+def pg_admin() -> Any:
+    """An autocommit connection to database ``test`` as the administrator of the tests."""
+    import psycopg
+
+    plain = PG_BASE.replace("postgresql+psycopg://", "postgresql://")
+    return psycopg.connect(plain, autocommit=True, connect_timeout=5)
+
+
+def schema_of(url: str) -> str:
+    """The schema of a :func:`pg_schema` URL."""
+    return url.rsplit("search_path%3D", 1)[1]
+
+
+def forget_engines(fragment: str) -> None:
+    """Dispose of this process's store engines whose URL contains ``fragment`` (their
+    connections are closed)."""
+    from flexride.store.db import _ENGINES
+
+    for key in [k for k in _ENGINES if fragment in k[1]]:
+        _ENGINES.pop(key).dispose()
+
+
+@contextlib.contextmanager
+def pg_role(url: str, *privileges: str) -> Iterator[str]:
+    """A login role of its own with ``privileges`` (e.g. ``SELECT``) on every table of the
+    schema of ``url`` (a :func:`pg_schema` URL, whose tables exist); yields ``url`` as that
+    role. The role is dropped at the end."""
+    from sqlalchemy.engine import make_url
+
+    role, schema = f"flexride_r_{uuid.uuid4().hex[:10]}", schema_of(url)
+    with pg_admin() as conn:
+        conn.execute(f'CREATE ROLE "{role}" LOGIN')
+        conn.execute(f'GRANT USAGE ON SCHEMA "{schema}" TO "{role}"')
+        if privileges:
+            conn.execute(f'GRANT {", ".join(privileges)} ON ALL TABLES IN SCHEMA "{schema}" '
+                         f'TO "{role}"')
+    try:
+        yield make_url(url).set(username=role).render_as_string(hide_password=False)
+    finally:
+        forget_engines(role)
+        with pg_admin() as conn:
+            conn.execute(f'DROP OWNED BY "{role}"')
+            conn.execute(f'DROP ROLE "{role}"')
 
 
 def redis_url(db: int = 9) -> str:
@@ -121,6 +163,55 @@ def insert_finished_job(store: JobStore, files: ResultFiles, results: Results | 
     values.update(fields)
     store.add([Job(**values)])
     return job_id
+
+
+class Tmpfs:
+    """A small tmpfs mounted on a directory (the tests run as root, as CI does);
+    ``read_only()`` / ``writable()`` remount it, ``fill()`` fills it."""
+
+    def __init__(self, path: Path, size_kb: int, options: str = ""):
+        self.path = path
+        path.mkdir(parents=True, exist_ok=True)
+        self._mount("-t", "tmpfs", "-o", ",".join(filter(None, [f"size={size_kb}k", options])),
+                    "tmpfs", str(path))
+
+    @staticmethod
+    def _mount(*args: str) -> None:
+        import pytest
+
+        r = subprocess.run(["mount", *args], capture_output=True, text=True)
+        if r.returncode != 0:
+            pytest.fail(f"storage-fault tests mount a tmpfs and need root: {r.stderr.strip()}")
+
+    def read_only(self) -> None:
+        self._mount("-o", "remount,ro", str(self.path))
+
+    def writable(self) -> None:
+        self._mount("-o", "remount,rw", str(self.path))
+
+    def fill(self) -> None:
+        """Fill the file system up to the last byte."""
+        fd = os.open(self.path / "filler", os.O_WRONLY | os.O_CREAT)
+        try:
+            while os.write(fd, b"\0" * 4096):
+                pass
+        except OSError:
+            pass
+        finally:
+            os.close(fd)
+
+    def umount(self) -> None:
+        subprocess.run(["umount", "-l", str(self.path)], check=False)
+
+
+@contextlib.contextmanager
+def tmpfs(path: Path, size_kb: int = 4096, options: str = "") -> Iterator[Tmpfs]:
+    """A :class:`Tmpfs` on ``path`` for the duration of the block."""
+    fs = Tmpfs(path, size_kb, options)
+    try:
+        yield fs
+    finally:
+        fs.umount()
 
 
 def wait_for(predicate: Callable[[], Any], timeout: float, interval: float = 0.2,

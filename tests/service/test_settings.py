@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from pydantic import ValidationError
 
-from flexride.settings import Settings, get_settings, redact_url
+from flexride.settings import Settings, get_settings, url_location
 
 
 @pytest.fixture
@@ -54,7 +54,11 @@ def test_environment_variables(clean_env, tmp_path):
     assert isinstance(Settings(_env_file=None, data_dir="~/x").data_dir, Path)
 
 
-def test_redact_url():
-    assert redact_url("postgresql://u:secret@h:5432/db") == "postgresql://u:***@h:5432/db"
-    assert redact_url("redis://h:6379/0") == "redis://h:6379/0"
-    assert redact_url(None) is None
+def test_url_location_has_no_credentials_query_or_path():
+    assert url_location("postgresql+psycopg://u:secret@h:5432/db?options=-csearch_path%3Dx") \
+        == "postgresql://h:5432/db"
+    assert url_location("redis://:secret@h:6379/0") == "redis://h:6379/0"
+    assert url_location("rediss://u:pw@[::1]:6380/2") == "rediss://[::1]:6380/2"
+    assert url_location("sqlite:////srv/data/flexride.db") == "sqlite:flexride.db"
+    assert url_location("sqlite://") == "sqlite::memory:"
+    assert url_location(None) is None

@@ -6,9 +6,13 @@
   with the allowed range), no text parsed back;
 * request validation → 422 in the same shape (``loc`` = ``["query", name]`` etc., ``msg`` with the
   violated bound as ``(allowed: ≤ 500)``); :class:`NotFound` → 404; :class:`Conflict` → 409;
-* storage faults (:class:`~flexride.errors.StorageError`, a database that refuses writes or
-  cannot be reached, a read-only or full disk) → 503 ``storage unavailable: <reason>`` with
-  ``Retry-After``, the reason without server paths (:mod:`flexride.store.probe`);
+* storage faults (:class:`~flexride.errors.StorageError`, a database error whose code means it
+  cannot take writes now — read-only, no privilege, full, connection lost, busy after
+  retries —, a read-only or full disk) → 503 ``storage unavailable: <reason>`` with
+  ``Retry-After``, the reason without server paths (:mod:`flexride.store.probe`), one line
+  in the log;
+* a body that stopped coming (the client went, or the server's time limit closed the
+  connection) → 400, which nobody reads, and nothing in the log;
 * anything else → 500 with a JSON body (and the traceback in the log).
 
 Responses are JSON without NaN (non-finite numbers become null).
@@ -25,9 +29,11 @@ from typing import Any
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
-from sqlalchemy.exc import DataError, DBAPIError, IntegrityError, ProgrammingError
+from sqlalchemy.exc import SQLAlchemyError
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.requests import ClientDisconnect
 
+from flexride.api.logs import request_line
 from flexride.errors import (
     ErrorItem,
     FlexrideError,
@@ -40,6 +46,8 @@ from flexride.store.probe import db_fault, is_storage_oserror, os_fault
 
 log = logging.getLogger(__name__)
 
+RETRY_AFTER_S = 30
+"""``Retry-After`` of a 503 for a storage fault (s)."""
 
 
 class NotFound(Exception):
@@ -145,28 +153,35 @@ STORAGE_FAULT_MEMORY_S = 60.0
 def _unavailable(request: Request, reason: str) -> JSONResponse:
     request.app.state.storage_fault = (time.monotonic(), reason)
     msg = f"storage unavailable: {reason}"
-    return SafeJSONResponse(status_code=503, headers={"Retry-After": "30"},
+    return SafeJSONResponse(status_code=503, headers={"Retry-After": str(RETRY_AFTER_S)},
                             content={"detail": msg, "message": msg})
 
 
 async def _database_error(request: Request, exc: Exception) -> JSONResponse:
-    assert isinstance(exc, DBAPIError)
-    if isinstance(exc, IntegrityError | DataError | ProgrammingError):
+    reason = db_fault(exc)
+    if reason is None:
         return await _internal_error(request, exc)
-    log.error("database error on %s %s: %s", request.method, request.url.path, exc)
-    return _unavailable(request, db_fault(exc))
+    log.error("storage unavailable on %s: %s (%s)", request_line(request), reason,
+              type(getattr(exc, "orig", exc)).__name__)
+    return _unavailable(request, reason)
 
 
 async def _os_error(request: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, OSError)
     if not is_storage_oserror(exc):
         return await _internal_error(request, exc)
-    log.error("storage error on %s %s: %s", request.method, request.url.path, exc)
+    log.error("storage unavailable on %s: %s", request_line(request), os_fault(exc))
     return _unavailable(request, os_fault(exc))
 
 
+async def _client_gone(_request: Request, _exc: Exception) -> JSONResponse:
+    # the body stopped coming (the client went, or the server's time limit closed the
+    # connection, flexride.api.server): nobody reads this answer, and it is no fault here
+    return _error(400, "the client closed the connection", "the client closed the connection")
+
+
 async def _internal_error(request: Request, exc: Exception) -> JSONResponse:
-    log.exception("internal error on %s %s", request.method, request.url.path, exc_info=exc)
+    log.error("internal error on %s", request_line(request), exc_info=exc)
     return _error(500, f"internal error ({type(exc).__name__}); see the service log",
                   f"internal error ({type(exc).__name__})")
 
@@ -178,15 +193,21 @@ def install_error_handlers(app: FastAPI) -> None:
     app.add_exception_handler(NotFound, _not_found)
     app.add_exception_handler(Conflict, _conflict)
     app.add_exception_handler(StarletteHTTPException, _http_error)
-    app.add_exception_handler(DBAPIError, _database_error)
+    app.add_exception_handler(SQLAlchemyError, _database_error)
     app.add_exception_handler(OSError, _os_error)
+    app.add_exception_handler(ClientDisconnect, _client_gone)
     app.add_exception_handler(Exception, _internal_error)
 
 
 ERROR_RESPONSES: dict[int | str, dict[str, Any]] = {
     400: {"description": "Malformed request (e.g. a body that is not UTF-8 text)"},
     404: {"description": "Unknown id or name"},
+    408: {"description": "The request's headers or body did not arrive in time (the "
+          "server's limits, docs/service.md); the connection is closed"},
     413: {"description": "Request body too large"},
     422: {"description": "Invalid input: field paths and allowed ranges"},
+    429: {"description": "Too many connections from this client address at once"},
+    503: {"description": "Storage unavailable (a database or disk that cannot take writes "
+          "now): `storage unavailable: <reason>`, Retry-After"},
 }
 """Documented error responses shared by the routers (model added in :mod:`.main`)."""

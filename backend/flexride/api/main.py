@@ -1,5 +1,6 @@
 """The FastAPI application: routers under ``/api/v1``, error handlers, the middleware (Host
-check, complete ``Allow`` on 405, body-size limit), the job runner and the reaper started with
+check, complete ``Allow`` on 405, the token checked before the body, body-size limit), the
+job runner and the reaper started with
 the app, the API docs (``/docs``, ``/redoc``: their assets served from the installed
 ``fastapi-offline`` package, no CDN) and the static files (dashboard at ``/`` when
 ``frontend/`` exists, ``/static/plotly.min.js`` from the installed plotly package).
@@ -28,9 +29,10 @@ from fastapi.responses import FileResponse, HTMLResponse, RedirectResponse
 from fastapi.staticfiles import StaticFiles
 
 from flexride import __version__
-from flexride.api.deps import Services
+from flexride.api.deps import Services, authorized, needs_token
 from flexride.api.errors import ERROR_RESPONSES, SafeJSONResponse, install_error_handlers
-from flexride.api.middleware import BodySizeLimit, MethodNotAllowed, TrustedHosts
+from flexride.api.logs import configure_logging
+from flexride.api.middleware import BodySizeLimit, MethodNotAllowed, TokenGate, TrustedHosts
 from flexride.api.routes import api_router
 from flexride.api.schemas import ErrorResponse
 from flexride.api.services.fe import FEExports
@@ -38,7 +40,7 @@ from flexride.api.services.jobs import sweep_deleted
 from flexride.api.services.studies import queue_due_reports
 from flexride.jobs.factory import make_runner
 from flexride.jobs.reaper import Reaper
-from flexride.settings import API_PREFIX, Settings, get_settings, token_problem
+from flexride.settings import API_PREFIX, Settings, get_settings, token_problem, url_location
 from flexride.store import JobStore, ResultFiles
 from flexride.study.submit import Submitter
 
@@ -189,7 +191,11 @@ def limits_text(settings: Settings) -> str:
             f"{s.max_fe_dofs:,} degrees of freedom and {s.max_fe_cutoff_hz:g} Hz "
             "(`FLEXRIDE_MAX_FE_DOFS`, `FLEXRIDE_MAX_FE_CUTOFF_HZ`); "
             f"{s.max_study_jobs} jobs per study (`FLEXRIDE_MAX_STUDY_JOBS`); request bodies "
-            f"and uploads up to {s.max_body_bytes:,} bytes (413, `FLEXRIDE_MAX_BODY_BYTES`).")
+            f"and uploads up to {s.max_body_bytes:,} bytes (413, `FLEXRIDE_MAX_BODY_BYTES`). "
+            "**Connections** (`flexride serve`): a request's headers within "
+            f"{s.header_timeout_s:g} s, its body with pauses of at most "
+            f"{s.body_idle_timeout_s:g} s and within {s.body_timeout_s:g} s (408); "
+            f"{s.max_connections_per_client} connections per client address at once (429).")
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -209,9 +215,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     problem = token_problem(settings.api_token)
     if problem:  # settings made without validation (Settings() itself refuses it)
         raise ValueError(f"FLEXRIDE_API_TOKEN: {problem}")
-    if not logging.getLogger().handlers:
-        logging.basicConfig(level=settings.log_level.upper(),
-                            format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    configure_logging(settings.log_level)
     services = build_services(settings)
 
     @asynccontextmanager
@@ -229,7 +233,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             # every request in flight for ~0.1 s now and then (p99 of 50 readers 239 → 84 ms)
             gc.freeze()
         log.info("flexride API %s: runner %s, store %s, results in %s", __version__,
-                 services.runner.kind, services.store.engine.url.render_as_string(),
+                 services.runner.kind, url_location(settings.effective_database_url),
                  services.files.root)
         try:
             yield
@@ -259,6 +263,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(api_router, prefix=API_PREFIX, responses=responses)
     app.add_middleware(GZipMiddleware, minimum_size=4096, compresslevel=1)
     app.add_middleware(BodySizeLimit, max_bytes=settings.max_body_bytes)
+    app.add_middleware(TokenGate, router=app.router, needs_token=needs_token,
+                       authorized=partial(authorized, settings.api_token))
     app.add_middleware(MethodNotAllowed, router=app.router)
     app.add_middleware(TrustedHosts, allowed=settings.trusted_hosts)
     _docs(app)

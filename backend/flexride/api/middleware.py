@@ -6,13 +6,18 @@
   rebinding: a page on a foreign domain cannot reach the service through a browser);
 * :class:`MethodNotAllowed`: a known path asked with a method it does not have gets 405 with
   the complete ``Allow`` header (Starlette names only the first route of the path, and the
-  dashboard mounted at ``/`` would answer with its own).
+  dashboard mounted at ``/`` would answer with its own);
+* :class:`TokenGate`: a request to a route that needs the API token and does not carry it gets
+  401 from its headers, before its body is read (and the connection is closed).
+
+Time limits on receiving a request and the connections per client are the server's
+(:mod:`flexride.api.server`): the application sees a request only once its headers are in.
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
 from starlette.exceptions import HTTPException
@@ -27,6 +32,9 @@ else:
 
         def _route_contexts(routes: Iterable[BaseRoute]) -> Iterable[BaseRoute]:
             return routes
+
+TOKEN_REQUIRED = "a valid bearer token is required"
+"""The message of a 401 (here and in :func:`flexride.api.deps.require_token`)."""
 
 
 class _TooLarge(HTTPException):
@@ -185,8 +193,9 @@ class MethodNotAllowed:
 
     The path is the first route template (in routing order) that matches the request's path,
     so ``Allow`` names the methods the OpenAPI document gives that path: ``PUT
-    /jobs/validate`` names ``POST`` only, although ``GET /jobs/validate`` reaches the route
-    of ``/jobs/{job_id}`` (and answers 404).
+    /jobs/validate`` names ``POST`` only. ``GET /jobs/validate`` reaches the route of
+    ``/jobs/{job_id}``, which refuses ``validate`` as an id (422): such an answer (404 or 422)
+    of a route whose template comes after the fixed path's is replaced by 405 too.
 
     Parameters
     ----------
@@ -203,7 +212,7 @@ class MethodNotAllowed:
 
     def allowed_methods(self, scope: dict) -> set[str] | None:
         """The methods of the first route template that matches the path, or None when a
-        route takes the request as it is (or no route has the path).
+        route of that template takes the request as it is (or no route has the path).
         """
         allowed: set[str] = set()
         template = None
@@ -212,8 +221,8 @@ class MethodNotAllowed:
             if not methods:
                 continue  # mounts, websocket routes
             match, _ = route.matches(scope)
-            if match is Match.FULL:
-                return None
+            if match is Match.FULL:  # an earlier (fixed) template owns the path, if any
+                return allowed if template not in (None, route.path_format) else None
             if match is Match.PARTIAL and template in (None, route.path_format):
                 template = route.path_format
                 allowed |= methods
@@ -224,13 +233,15 @@ class MethodNotAllowed:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        # the routes are matched only for answers that may be wrong (404, 405), not for
-        # every request: the app answers first, and such an answer is replaced
+        # the routes are matched only for answers that may be wrong (404, 405, and 422 of a
+        # path parameter), not for every request: the app answers first, and such an answer
+        # is replaced
         replaced = False
 
         async def guarded(message: dict) -> None:
             nonlocal replaced
-            if message["type"] == "http.response.start" and message["status"] in (404, 405):
+            if message["type"] == "http.response.start" and message["status"] in (404, 405,
+                                                                                 422):
                 allowed = self.allowed_methods(scope)
                 if allowed is not None:
                     replaced = True
@@ -241,3 +252,51 @@ class MethodNotAllowed:
                 await send(message)
 
         await self.app(scope, receive, guarded)
+
+
+class TokenGate:
+    """401 (``WWW-Authenticate: Bearer``, ``Connection: close``) for a request to a route that
+    needs the API token when it does not carry it, answered before the app reads the body:
+    FastAPI reads a body before it runs the route's dependencies, so without this a client
+    without the token could hold a connection for as long as it takes to send its body.
+
+    Parameters
+    ----------
+    app : ASGI application
+        The wrapped application.
+    router : starlette.routing.Router
+        The application's router; the routes that need the token are found in it at the
+        first request.
+    needs_token : callable(route) -> bool
+        Whether a route needs the token (:func:`flexride.api.deps.needs_token`).
+    authorized : callable(authorization header or None) -> bool
+        Whether a request with that ``Authorization`` header may pass.
+    """
+
+    SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
+
+    def __init__(self, app: Any, router: Router, needs_token: Callable[[Any], bool],
+                 authorized: Callable[[str | None], bool]):
+        self.app = app
+        self.router = router
+        self.needs_token = needs_token
+        self.authorized = authorized
+        self._protected: list[Any] | None = None
+
+    def protected(self, scope: dict) -> bool:
+        """Whether the request goes to a route that needs the token."""
+        if self._protected is None:
+            self._protected = [r for r in _route_contexts(self.router.routes)
+                               if self.needs_token(r)]
+        return any(r.matches(scope)[0] is Match.FULL for r in self._protected)
+
+    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        """Refuse an unauthorised request to a protected route, else pass on."""
+        if scope["type"] == "http" and scope["method"] not in self.SAFE_METHODS:
+            header = next((v.decode("latin-1") for k, v in scope.get("headers", ())
+                           if k == b"authorization"), None)
+            if not self.authorized(header) and self.protected(scope):
+                await reply_json(send, 401, TOKEN_REQUIRED,
+                                 [(b"www-authenticate", b"Bearer"), (b"connection", b"close")])
+                return
+        await self.app(scope, receive, send)

@@ -3,9 +3,10 @@
 :func:`register` adds them to flexride's typer app (``flexride.cli``). Without the CLI wiring
 the same commands run as ``python -m flexride.cli.service serve|worker``.
 
-* ``serve`` starts the API with uvicorn; without a broker it also starts the embedded runner
-  (a pool of worker processes on this machine); records and results live under
-  ``FLEXRIDE_DATA_DIR``. Invalid settings, a weak ``FLEXRIDE_API_TOKEN`` among them, end it
+* ``serve`` starts the API with uvicorn (with the time limits on receiving a request and the
+  connection limits of :mod:`flexride.api.server`); without a broker it also starts the
+  embedded runner (a pool of worker processes on this machine); records and results live
+  under ``FLEXRIDE_DATA_DIR``. Invalid settings, a weak ``FLEXRIDE_API_TOKEN`` among them, end it
   with exit code 2 and one line per problem.
 * ``worker`` starts a Celery worker (the app in ``worker/``) for ``FLEXRIDE_BROKER_URL``; it
   replaces itself with ``python -m celery`` so that one-thread BLAS settings apply before
@@ -88,8 +89,12 @@ def serve(
               "none": "no runner: jobs are recorded only"}[runner]
     typer.echo(f"jobs: {detail}; data in {settings.data_dir}")
     _exit_normally_on_sigterm()
+    from flexride.api.server import ConnectionLimits, protocol_class
+
     uvicorn.run("flexride.api.main:create_app", factory=True, host=bind, port=settings.port,
-                log_level=settings.log_level.lower(), proxy_headers=True)
+                log_level=settings.log_level.lower(), proxy_headers=True,
+                http=protocol_class(ConnectionLimits.from_settings(settings)),
+                limit_concurrency=settings.max_connections)
 
 
 def _exit_normally_on_sigterm() -> None:

@@ -19,7 +19,7 @@ from celery import Celery
 
 from flexride.jobs.base import JobRunner
 from flexride.jobs.celery_config import TASK_NAME, celery_config
-from flexride.settings import Settings, redact_url
+from flexride.settings import Settings, url_location
 from flexride.store import JobStore
 
 log = logging.getLogger(__name__)
@@ -142,7 +142,7 @@ class CeleryRunner(JobRunner):
 
     def status(self) -> dict[str, Any]:
         """Broker reachability and the number of messages waiting in the queue."""
-        url = redact_url(self.broker_url)
+        url = url_location(self.broker_url)
         info: dict[str, Any] = {"kind": self.kind, "broker": url}
         try:
             if self.broker_url.startswith(("redis://", "rediss://")):

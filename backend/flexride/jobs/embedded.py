@@ -63,6 +63,7 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
     parent_pid : int
         The API process; the worker exits after its current job if that process is gone.
     """
+    from flexride.jobs.fault_log import FaultLog
     from flexride.jobs.presence import Presence
     from flexride.jobs.warmup import limit_blas_threads, warm_numba
     from flexride.study.run_job import JobContext, claimed_job, run_claimed
@@ -76,6 +77,7 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
     ctx = JobContext.from_settings(settings, name)
     ctx.presence = Presence(ctx.store, name, KIND, settings.heartbeat_interval_s).start()
     warm_numba()
+    claims = FaultLog(log, f"{name}: claiming a job")
     try:
         while not stop.is_set() and os.getppid() == parent_pid:
             try:
@@ -83,9 +85,10 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
                     KIND, name, stale_before=now() - settings.heartbeat_timeout_s,
                     dead=worker_is_dead)
             except Exception as exc:  # database briefly unavailable
-                log.warning("%s: cannot claim a job: %s", name, exc)
+                claims.failed(exc)
                 stop.wait(_IDLE_POLL_S)
                 continue
+            claims.succeeded()
             if claim is None:
                 if wake.wait(_IDLE_POLL_S):
                     wake.clear()
@@ -169,11 +172,11 @@ class EmbeddedRunner(JobRunner):
         """Requeue or fail jobs left running by embedded workers of this host that are gone."""
         for job in self.store.running_jobs(KIND):
             if job.worker and worker_is_dead(job.worker):
-                self._lost(job.id, job.worker, f"worker process {job.worker} is gone")
+                self._lost(job.id, job.worker, "its worker process is gone")
 
     def _lost(self, job_id: str, worker: str, reason: str) -> None:
         status = self.store.worker_lost(job_id, worker, reason)
-        log.warning("job %s: %s -> %s", job_id, reason, status)
+        log.warning("job %s: %s (worker %s) -> %s", job_id, reason, worker, status)
         if status == "queued":
             self._wake.set()
 
@@ -205,8 +208,8 @@ class EmbeddedRunner(JobRunner):
         process keeps dying right after it starts).
         """
         name = worker_name(KIND, p.pid)
-        reason = f"worker process {p.pid} died (exit code {p.exitcode})"
-        log.error("embedded runner: %s", reason)
+        reason = f"its worker process died (exit code {p.exitcode})"
+        log.error("embedded runner: worker process %s died (exit code %s)", p.pid, p.exitcode)
         try:
             for job in self.store.running_on([name]):
                 self._lost(job.id, name, reason)

@@ -10,6 +10,8 @@ import socket
 import threading
 from pathlib import Path
 
+from flexride.jobs.fault_log import FaultLog
+
 log = logging.getLogger(__name__)
 
 
@@ -79,16 +81,19 @@ class Presence:
     def __init__(self, store, name: str, kind: str, interval: float):
         self.store, self.name, self.kind, self.interval = store, name, kind, interval
         self.current_job: str | None = None
+        self.faults = FaultLog(log, f"worker {name}: presence report")
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
 
     def report(self) -> None:
-        """Record the worker as seen now (errors are logged, not raised)."""
+        """Record the worker as seen now (errors are logged once per change, not raised)."""
         try:
             self.store.worker_seen(self.name, self.kind, hostname(), os.getpid(),
                                    self.current_job)
         except Exception as exc:  # the database may be briefly unreachable
-            log.warning("worker %s: cannot report presence: %s", self.name, exc)
+            self.faults.failed(exc)
+        else:
+            self.faults.succeeded()
 
     def start(self) -> Presence:
         """Report now and then periodically."""

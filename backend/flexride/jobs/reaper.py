@@ -16,6 +16,7 @@ from collections.abc import Callable
 from typing import Any
 
 from flexride.jobs.base import JobRunner
+from flexride.jobs.fault_log import FaultLog
 from flexride.settings import Settings
 from flexride.store import JobStore, now
 
@@ -44,20 +45,22 @@ class Reaper:
         self.last: dict[str, Any] = {}
         #: Called after every pass, each on its own (a failing hook is logged).
         self.hooks: list[Callable[[], object]] = []
+        self.faults = FaultLog(log, "reaper pass")
+        self._hook_faults: dict[int, FaultLog] = {}
 
     def run_once(self) -> dict[str, Any]:
         """One pass: requeue or fail stale jobs, re-dispatch; return what was done."""
         timeout = self.settings.heartbeat_timeout_s
         requeued, failed = [], []
         for job in self.store.stale_running(now() - timeout):
-            reason = f"no heartbeat from worker {job.worker} for more than {timeout:g} s"
+            reason = f"no heartbeat from its worker for more than {timeout:g} s"
             status = self.store.worker_lost(job.id, job.worker or "", reason)
             if status == "queued":
                 requeued.append(job.id)
             elif status is not None:
                 failed.append(job.id)
             if status is not None:
-                log.warning("job %s: %s -> %s", job.id, reason, status)
+                log.warning("job %s: %s (worker %s) -> %s", job.id, reason, job.worker, status)
         if requeued:
             self.runner.submit(requeued)
         redispatched = self.runner.redispatch()
@@ -65,11 +68,26 @@ class Reaper:
         self.last = {"requeued": requeued, "failed": failed, "redispatched": redispatched,
                      "at": now()}
         for hook in self.hooks:
+            faults = self._hook_faults.setdefault(
+                id(hook), FaultLog(log, f"reaper hook {getattr(hook, '__name__', hook)}"))
             try:
                 hook()
-            except Exception:
-                log.exception("reaper hook %s failed", getattr(hook, "__name__", hook))
+            except Exception as exc:
+                faults.failed(exc)
+            else:
+                faults.succeeded()
         return self.last
+
+    def run_logged(self) -> None:
+        """One pass whose failure is logged once per change of its reason (a database that
+        refuses writes fails every pass: one line, not a traceback every few seconds).
+        """
+        try:
+            self.run_once()
+        except Exception as exc:
+            self.faults.failed(exc)
+        else:
+            self.faults.succeeded()
 
     def start(self) -> Reaper:
         """Start the periodic thread."""
@@ -79,10 +97,7 @@ class Reaper:
 
     def _loop(self) -> None:
         while not self._stop.wait(self.settings.reaper_interval_s):
-            try:
-                self.run_once()
-            except Exception:
-                log.exception("reaper pass failed")
+            self.run_logged()
 
     def stop(self) -> None:
         """Stop the thread."""

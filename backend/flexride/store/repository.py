@@ -8,20 +8,41 @@ or deleted meanwhile.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, cast
+from typing import Any, ParamSpec, TypeVar, cast
 
-from sqlalchemy import CursorResult, Engine, Result, delete, func, select, text, update
+from sqlalchemy import (
+    CursorResult,
+    Engine,
+    Result,
+    and_,
+    bindparam,
+    delete,
+    func,
+    select,
+    text,
+    update,
+)
+from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session, defer, sessionmaker, undefer
 
 from flexride.store.data_version import DataVersion
 from flexride.store.db import get_engine, init_db, writer
 from flexride.store.models import FINAL_STATUSES, Job, Study, WorkerSeen
+from flexride.store.probe import retryable
 
 DeadWorker = Callable[[str], bool]
+P = ParamSpec("P")
+R = TypeVar("R")
+
+WRITE_ATTEMPTS = 3
+"""Runs of a writing transaction that the database rolled back as a serialization failure or
+a deadlock (:func:`flexride.store.probe.retryable`) before the error is raised."""
+_RETRY_PAUSE_S = 0.05
 
 ACTIVE_STATUSES = ("queued", "running")
 """States of a job that is still to run or running."""
@@ -61,6 +82,26 @@ class Claim:
 
 
 
+_PING = select(1)
+_COUNTS = select(Job.status, func.count()).group_by(Job.status)
+_WORKERS_AND_JOBS = (
+    select(*WorkerSeen.__table__.c, Job.id.label("job_id"))
+    .outerjoin(Job, and_(Job.worker == WorkerSeen.name, Job.status == "running"))
+    .where(WorkerSeen.last_seen >= bindparam("seen_after"))
+    .order_by(WorkerSeen.last_seen.desc(), WorkerSeen.name))
+"""The statements of :meth:`JobStore.overview`, built once (health is polled often)."""
+
+
+@dataclass(frozen=True)
+class Overview:
+    """The store at a glance (:meth:`JobStore.overview`)."""
+
+    latency_s: float
+    counts: dict[str, int]
+    workers: list[Any]
+    """Rows with the columns of :class:`WorkerSeen` and ``job_id``."""
+
+
 def _rows(result: Result[Any]) -> int:
     """Rows an UPDATE or DELETE touched (``Session.execute`` returns a CursorResult for them)."""
     return int(cast(CursorResult[Any], result).rowcount)
@@ -69,6 +110,25 @@ def _rows(result: Result[Any]) -> int:
 def _key_int32(key: str) -> int:
     """A signed 32-bit number from a content key (a PostgreSQL advisory lock's second key)."""
     return int.from_bytes(hashlib.sha256(key.encode()).digest()[:4], "big", signed=True)
+
+
+def retried(method: Callable[P, R]) -> Callable[P, R]:
+    """Run a method that is one writing transaction again (up to :data:`WRITE_ATTEMPTS`
+    times, pausing 0.05, then 0.1 s) when the database rolled it back as a serialization
+    failure or a deadlock; other errors, and the last one, are raised.
+    """
+    @functools.wraps(method)
+    def run(*args: P.args, **kwargs: P.kwargs) -> R:
+        for attempt in range(1, WRITE_ATTEMPTS + 1):
+            try:
+                return method(*args, **kwargs)
+            except DBAPIError as exc:
+                if attempt == WRITE_ATTEMPTS or not retryable(exc):
+                    raise
+            time.sleep(_RETRY_PAUSE_S * 2 ** (attempt - 1))  # back-off, not synchronisation
+        raise AssertionError("unreachable")  # pragma: no cover
+
+    return run
 
 class JobStore:
     """Job, study and worker records in a SQL database.
@@ -118,6 +178,7 @@ class JobStore:
 
     # -- jobs: creation and reads ------------------------------------------------------------
 
+    @retried
     def add(self, jobs: Sequence[Job], study: Study | None = None) -> None:
         """Insert new jobs (and their study) in one transaction."""
         with self.writing() as s, s.begin():
@@ -146,6 +207,7 @@ class JobStore:
         with self.engine.connect() as conn:
             return conn.execute(q).scalar_one_or_none()
 
+    @retried
     def add_unless_active(self, job: Job) -> tuple[Job, bool]:
         """Insert ``job`` unless a job of its kind and ``scenario_hash`` is queued or running;
         in one transaction, so concurrent callers (threads, API processes) add one job per
@@ -249,8 +311,25 @@ class JobStore:
     def counts(self) -> dict[str, int]:
         """Number of jobs per status."""
         with self.reading() as s:
-            rows = s.execute(select(Job.status, func.count()).group_by(Job.status)).all()
+            rows = s.execute(_COUNTS).all()
         return {status: int(n) for status, n in rows}
+
+    def overview(self, workers_seen_after: float) -> Overview:
+        """What health reports of the store, read on one connection: a round trip's time,
+        the jobs per status and the workers seen after ``workers_seen_after`` (most recent
+        first), each with the job that the job records say it runs (``job_id``, None when
+        no running job names it: not the worker's own last report, which a worker that died
+        or stopped reporting never corrects).
+        """
+        with self.engine.connect() as conn:
+            t0 = time.perf_counter()
+            conn.execute(_PING).scalar_one()
+            latency = time.perf_counter() - t0
+            counts = conn.execute(_COUNTS).all()
+            seen: dict[str, Any] = {}
+            for row in conn.execute(_WORKERS_AND_JOBS, {"seen_after": workers_seen_after}):
+                seen.setdefault(row.name, row)  # one row per worker
+        return Overview(latency, {status: int(n) for status, n in counts}, list(seen.values()))
 
     # -- jobs: running ------------------------------------------------------------------------
 
@@ -270,11 +349,11 @@ class JobStore:
             stale = job.heartbeat_at is None or job.heartbeat_at < stale_before
             if not (stale or (job.worker is not None and dead(job.worker))):
                 return Claim(False, "running elsewhere", job)
-            note = f"previous attempt lost (worker {job.worker} stopped reporting); "
+            note = "previous attempt lost (its worker stopped reporting); "
         if job.attempts >= job.max_attempts:
             job.status, job.finished_at, job.updated_at = "failed", t, t
             job.error = (f"{note}the job's worker was lost {job.attempts} time(s) "
-                         f"(max_attempts = {job.max_attempts}); last worker {job.worker}")
+                         f"(max_attempts = {job.max_attempts})")
             job.message = "failed: worker lost"
             return Claim(False, "failed", job)
         job.status = "running"
@@ -286,6 +365,7 @@ class JobStore:
         job.error = None
         return Claim(True, "claimed", job)
 
+    @retried
     def claim(self, job_id: str, worker: str, *, stale_before: float,
               dead: DeadWorker = _never_dead) -> Claim:
         """Start job ``job_id`` on ``worker`` if it is queued, or running on a lost worker.
@@ -312,6 +392,7 @@ class JobStore:
             job = s.get(Job, job_id, options=[undefer(Job.scenario)], with_for_update=True)
             return self._claim_row(s, job, worker, stale_before, dead)
 
+    @retried
     def claim_next(self, runner: str, worker: str, *, stale_before: float,
                    dead: DeadWorker = _never_dead) -> Claim | None:
         """Claim the oldest queued job of ``runner``; None when there is none."""
@@ -329,6 +410,7 @@ class JobStore:
                 return None
             return self._claim_row(s, job, worker, stale_before, dead)
 
+    @retried
     def _update_running(self, job_id: str, worker: str, **values: Any) -> bool:
         stmt = (
             update(Job)
@@ -370,6 +452,7 @@ class JobStore:
         return self._update_running(job_id, worker, status=status, finished_at=t, updated_at=t,
                                     heartbeat_at=t, **values)
 
+    @retried
     def request_cancel(self, job_id: str) -> Job | None:
         """Cancel a job: a queued one at once, a running one at its next cancellation check."""
         with self.writing() as s, s.begin():
@@ -387,6 +470,7 @@ class JobStore:
             job.updated_at = t
             return job
 
+    @retried
     def delete_job(self, job_id: str) -> Job | None:
         """Delete a job record; return it (its result file is the caller's to remove)."""
         with self.writing() as s, s.begin():
@@ -396,6 +480,7 @@ class JobStore:
             s.delete(job)
             return job
 
+    @retried
     def worker_lost(self, job_id: str, worker: str, reason: str) -> str | None:
         """Declare ``worker`` lost while running the job: requeue it, or fail it when its
         attempts are used up. Returns the new status, or None if the job was not ``worker``'s.
@@ -439,6 +524,7 @@ class JobStore:
         with self.reading() as s:
             return list(s.scalars(q))
 
+    @retried
     def requeue_interrupted(self, worker: str, reason: str) -> bool:
         """Put a job interrupted by a service shutdown back in the queue (attempt not counted)."""
         stmt = (
@@ -482,6 +568,7 @@ class JobStore:
                     out[sid][status] = int(n)
         return out
 
+    @retried
     def delete_study(self, study_id: str) -> tuple[Study | None, list[Job]]:
         """Delete a study and its jobs; return them (result files are the caller's)."""
         with self.writing() as s, s.begin():
@@ -496,6 +583,7 @@ class JobStore:
 
     # -- workers ------------------------------------------------------------------------------
 
+    @retried
     def worker_seen(self, name: str, kind: str, hostname: str, pid: int,
                     current_job: str | None = None) -> None:
         """Record that a worker process is alive (insert or update its row)."""
@@ -508,6 +596,7 @@ class JobStore:
             else:
                 row.last_seen, row.current_job = t, current_job
 
+    @retried
     def worker_gone(self, name: str) -> None:
         """Remove a worker that stopped cleanly."""
         with self.writing() as s, s.begin():
@@ -521,6 +610,7 @@ class JobStore:
         with self.reading() as s:
             return list(s.scalars(q))
 
+    @retried
     def forget_workers(self, seen_before: float) -> int:
         """Delete worker rows not seen since ``seen_before``."""
         with self.writing() as s, s.begin():

@@ -7,6 +7,7 @@ from typing import Annotated, Any, Literal
 from fastapi import APIRouter, Path, Query, Response
 
 from flexride.api.deps import ServicesDep, TokenOk
+from flexride.api.params import JobId
 from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport
 from flexride.api.services import fe as svc_fe
 from flexride.fem.export import DEFAULT_MAX_MODES, ExportSpec
@@ -16,7 +17,6 @@ from flexride.study.admission import check_fe_build
 router = APIRouter(tags=["fe"])
 
 Kind = Annotated[Literal["carbody", "frame"], Path(description="carbody or frame")]
-JobId = Annotated[str, Path(min_length=1, max_length=64, description="Job id")]
 MaxModes = Annotated[int, Query(ge=0, le=100, description="Mode shapes exported (the lowest)")]
 Reduction = BodyModel.model_fields["reduction"].annotation
 

@@ -4,16 +4,15 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Path, Query, Request, Response
+from fastapi import APIRouter, Query, Request, Response
 
-from flexride.api.deps import AUTH, ServicesDep
+from flexride.api.deps import AUTH, ServicesDep, TokenOk
+from flexride.api.params import JobId, StudyFilter
 from flexride.api.schemas import JobCreate, JobList, JobOut, JobStatus, JobSubmitted
 from flexride.api.services import jobs as svc_jobs
 from flexride.api.services.record_cache import cached_record
 
 router = APIRouter(prefix="/jobs", tags=["jobs"])
-
-JobId = Annotated[str, Path(min_length=1, max_length=64, description="Job id")]
 
 
 @router.post("", status_code=201, response_model=JobSubmitted, dependencies=AUTH,
@@ -48,8 +47,9 @@ def validate_job(body: JobCreate, svc: ServicesDep) -> dict[str, Any]:
 def list_jobs(
     request: Request,
     svc: ServicesDep,
+    operator: TokenOk,
     status: Annotated[JobStatus | None, Query(description="Only jobs in this state")] = None,
-    study_id: Annotated[str | None, Query(max_length=64, description="Only this study")] = None,
+    study_id: StudyFilter = None,
     kind: Annotated[Literal["simulation", "fe_export", "all"], Query(
         description="Only jobs of this kind: simulation (the default), fe_export (builds of "
         "FE exports for GET /fe) or all")] = "simulation",
@@ -57,17 +57,22 @@ def list_jobs(
     offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
 ) -> Any:
     """Jobs newest first, filtered by status, study and kind (simulations unless asked),
-    a page at a time.
+    a page at a time. ``worker`` (its host and process) needs the API token.
     """
-    return cached_record(request, svc, "list", (status, study_id, kind, limit, offset),
-                         lambda: svc_jobs.list_jobs(svc, status, study_id, limit, offset, kind))
+    return cached_record(
+        request, svc, "list", (status, study_id, kind, limit, offset, operator),
+        lambda: svc_jobs.list_jobs(svc, status, study_id, limit, offset, kind,
+                                   operator=operator))
 
 
 @router.get("/{job_id}", response_model=JobOut, summary="Job detail")
-def get_job(request: Request, job_id: JobId, svc: ServicesDep) -> Any:
-    """Status, progress and message, timings, attempts, error text."""
-    return cached_record(request, svc, "detail", job_id,
-                         lambda: svc_jobs.job_out(svc_jobs.get_job(svc, job_id), svc))
+def get_job(request: Request, job_id: JobId, svc: ServicesDep, operator: TokenOk) -> Any:
+    """Status, progress and message, timings, attempts, error text; ``worker`` (its host
+    and process) needs the API token.
+    """
+    return cached_record(
+        request, svc, "detail", (job_id, operator),
+        lambda: svc_jobs.job_out(svc_jobs.get_job(svc, job_id), operator=operator))
 
 
 @router.get("/{job_id}/scenario", response_model=dict[str, Any], summary="Scenario of a job")

@@ -10,11 +10,12 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Path, Query, Request
+from fastapi import APIRouter, Query, Request
 from fastapi.responses import FileResponse
 from pydantic import StringConstraints
 
 from flexride.api.deps import ServicesDep
+from flexride.api.params import JobId
 from flexride.api.schemas import (
     ChannelList,
     CorrelationOut,
@@ -29,7 +30,6 @@ from flexride.api.services.result_cache import cached_answer
 router = APIRouter(prefix="/jobs/{job_id}", tags=["results"],
                    responses={409: {"description": "The job has no results (yet)"}})
 
-JobId = Annotated[str, Path(min_length=1, max_length=64, description="Job id")]
 Channels = Annotated[list[Annotated[str, StringConstraints(min_length=1, max_length=120)]], Query(
     description="Channel names (repeat the parameter), e.g. carbody.PR.acc.z")]
 Dynamic = Annotated[bool, Query(

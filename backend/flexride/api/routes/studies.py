@@ -9,12 +9,12 @@ from fastapi.responses import FileResponse
 
 from flexride.api.deps import AUTH, ServicesDep
 from flexride.api.errors import NotFound
+from flexride.api.params import StudyId
 from flexride.api.schemas import StudyCreate, StudyDetail, StudyList, StudyPresetOut
 from flexride.api.services import studies as svc_studies
 
 router = APIRouter(tags=["studies"])
 
-StudyId = Annotated[str, Path(min_length=1, max_length=64, description="Study id")]
 _AUTH_DOC: dict[int | str, dict[str, Any]] = {
     401: {"description": "Bearer token missing or wrong"}
 }

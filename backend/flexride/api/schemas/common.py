@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
@@ -10,8 +11,10 @@ from pydantic import (
     BeforeValidator,
     ConfigDict,
     Field,
+    ValidationError,
     model_validator,
 )
+from pydantic_core import InitErrorDetails, PydanticCustomError
 
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
 JobKind = Literal["simulation", "fe_export", "paper_report"]
@@ -20,8 +23,43 @@ BodyModelName = Literal["rigid", "flexible"]
 _NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9 _.+-]{0,79}$"
 
 
+NUL_RULE = "text must not contain the NUL character (U+0000)"
+"""Why a request text with NUL is refused: the job store cannot keep it (PostgreSQL's text
+cannot hold NUL), and no field of a scenario or study needs it."""
+
+
+def _nul_paths(value: Any, path: tuple[str | int, ...] = ()) -> Iterator[tuple[str | int, ...]]:
+    """Paths of the strings (keys included) in a parsed JSON value that contain NUL."""
+    if isinstance(value, str):
+        if "\x00" in value:
+            yield path
+    elif isinstance(value, dict):
+        for key, item in value.items():
+            if isinstance(key, str) and "\x00" in key:
+                yield (*path, key)
+            yield from _nul_paths(item, (*path, key))
+    elif isinstance(value, list):
+        for i, item in enumerate(value):
+            if isinstance(item, str | dict | list):
+                yield from _nul_paths(item, (*path, i))
+
+
 class _Strict(BaseModel):
+    """A request body: unknown fields and NUL characters in any text are refused (422 at
+    the field).
+    """
+
     model_config = ConfigDict(extra="forbid")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_nul(cls, data: Any) -> Any:
+        paths = list(_nul_paths(data))
+        if paths:
+            raise ValidationError.from_exception_data(cls.__name__, [
+                InitErrorDetails(type=PydanticCustomError("string_nul", NUL_RULE), loc=loc,
+                                 input="") for loc in paths[:20]])
+        return data
 
 
 class ScenarioInput(_Strict):

@@ -30,7 +30,7 @@ class ComponentHealth(BaseModel):
 
 
 class WorkerOut(BaseModel):
-    """A worker process seen recently."""
+    """A worker process seen recently (operators only)."""
 
     name: str
     kind: str
@@ -38,8 +38,11 @@ class WorkerOut(BaseModel):
     pid: int
     started_at: datetime
     last_seen: datetime
-    alive: bool
-    current_job: str | None
+    alive: bool = Field(description="Reported within three heartbeat intervals")
+    state: Literal["alive", "gone"] = Field(
+        description="alive, or gone: it stopped reporting (stopped, killed or cut off)")
+    current_job: str | None = Field(
+        description="The job the job records say this worker runs (null when none)")
 
 
 class SolverHealth(BaseModel):
@@ -53,22 +56,36 @@ class SolverHealth(BaseModel):
         "ready) (s)")
 
 
+ComponentState = Literal["ok", "degraded", "down"]
+
+
 class HealthOut(BaseModel):
-    """Health of the API, the database, the broker and the workers."""
+    """Health of the service. Anyone sees ``status``, the state of each component and the
+    solver's compile state (``view: public``); with the API token (or on a service without
+    one) the details too (``view: operator``): where the database and broker are, the
+    workers with their hosts, processes and jobs, the job counts.
+    """
 
     status: Literal["ok", "degraded", "down"]
-    version: str
-    runner: str
-    api: ComponentHealth
-    database: ComponentHealth
-    storage: ComponentHealth | None = Field(
-        None, description="Whether the results and upload directories and the database take "
-        "writes (status degraded when not)")
-    broker: ComponentHealth | None = None
-    workers: list[WorkerOut]
-    jobs: dict[str, int]
+    view: Literal["public", "operator"] = Field(
+        description="public: states only (send the API token for the details); operator")
+    components: dict[str, ComponentState] = Field(
+        description="State of each component: api, database, storage, workers and (Celery "
+        "runner) broker")
     solver: SolverHealth | None = Field(
         None, description="Compilation state of the solver's kernels")
+    version: str | None = Field(None, description="Operators only")
+    runner: str | None = Field(None, description="Operators only")
+    api: ComponentHealth | None = Field(None, description="Operators only")
+    database: ComponentHealth | None = Field(
+        None, description="Operators only: backend, location (host, port, database; no "
+        "password or path), latency")
+    storage: ComponentHealth | None = Field(
+        None, description="Operators only: whether the results and upload directories and "
+        "the database take writes (status degraded when not)")
+    broker: ComponentHealth | None = Field(None, description="Operators only (Celery runner)")
+    workers: list[WorkerOut] | None = Field(None, description="Operators only")
+    jobs: dict[str, int] | None = Field(None, description="Operators only: jobs per status")
 
 
 class VersionOut(BaseModel):

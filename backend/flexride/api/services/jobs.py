@@ -26,9 +26,13 @@ def iso(t: float | None) -> datetime | None:
     return None if t is None else datetime.fromtimestamp(t, tz=UTC)
 
 
-def job_out(job: Job, svc: Services) -> JobOut:
-    """The API view of a job record."""
-    return JobOut.model_validate(job)
+def job_out(job: Any, *, operator: bool = True) -> JobOut:
+    """The API view of a job record (a :class:`Job` or a row of its list columns); the
+    ``worker`` that runs or ran it (its host and process id) is shown to operators only
+    (requests with the API token, or any on a service without one).
+    """
+    out = JobOut.model_validate(job)
+    return out if operator or out.worker is None else out.model_copy(update={"worker": None})
 
 
 def create_job(svc: Services, body: JobCreate) -> JobSubmitted:
@@ -74,13 +78,13 @@ def finished_job(svc: Services, job_id: str, *, summary: bool = False) -> Job:
 
 
 def list_jobs(svc: Services, status: str | None, study_id: str | None, limit: int,
-              offset: int, kind: str = "simulation") -> JobList:
-    """A page of jobs of one kind (``all``: every kind)."""
+              offset: int, kind: str = "simulation", *, operator: bool = True) -> JobList:
+    """A page of jobs of one kind (``all``: every kind); see :func:`job_out`."""
     items, total = svc.store.list_jobs(status=status, study_id=study_id,
                                        kind=None if kind == "all" else kind, limit=limit,
                                        offset=offset)
-    return JobList(items=[job_out(j, svc) for j in items], total=total, limit=limit,
-                   offset=offset)
+    return JobList(items=[job_out(j, operator=operator) for j in items], total=total,
+                   limit=limit, offset=offset)
 
 
 def cancel_job(svc: Services, job_id: str) -> JobOut:
@@ -90,7 +94,7 @@ def cancel_job(svc: Services, job_id: str) -> JobOut:
         raise NotFound(f"no job {job_id!r}")
     if job.status in ("queued", "running", "cancelled"):
         svc.runner.cancel(job_id)
-    return job_out(job, svc)
+    return job_out(job)
 
 
 def delete_job(svc: Services, job_id: str) -> None:
