@@ -8,6 +8,7 @@ rule as for measured irregularities: the service never reads a path named by a r
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 from flexride.contact.placement import Placement
@@ -26,6 +27,20 @@ PROFILE_EXTENSIONS = (".prw", ".prr", ".whl", ".ban", ".txt", ".csv")
 TAPING_LINE_OFFSET = 0.070
 
 
+@functools.cache
+def _builtin(kind: str, name: str) -> Profile | None:
+    """A built-in profile, built once per process (S1002 takes 12 ms: every submission to the
+    service loads the scenario's profiles to check them), or None for an unknown name.
+    """
+    make = {("wheel", "s1002"): s1002, ("rail", "60e1"): rail_60e1}.get((kind, name))
+    if make is None:
+        return None
+    profile = make()
+    for points in (profile.y, profile.z):  # shared: nobody may change it
+        points.flags.writeable = False
+    return profile
+
+
 def load_profile(src: ProfileSource, kind: str, sources: MeasuredSources = LIBRARY) -> Profile:
     """The profile ``src`` of ``kind`` (``"wheel"`` or ``"rail"``).
 
@@ -36,13 +51,11 @@ def load_profile(src: ProfileSource, kind: str, sources: MeasuredSources = LIBRA
         not allowed, a missing upload or an unreadable file.
     """
     if src.builtin is not None:
-        name = src.builtin.lower()
-        if kind == "wheel" and name == "s1002":
-            return s1002()
-        if kind == "rail" and name == "60e1":
-            return rail_60e1()
-        raise ScenarioError.at(("builtin",), f"unknown built-in {kind} profile "
-                                             f"{src.builtin!r}")
+        profile = _builtin(kind, src.builtin.lower())
+        if profile is None:
+            raise ScenarioError.at(("builtin",), f"unknown built-in {kind} profile "
+                                                 f"{src.builtin!r}")
+        return profile
     if src.path is not None:
         if not sources.allow_paths:
             raise ScenarioError.at(("path",), "a profile file path is not accepted here; upload "
