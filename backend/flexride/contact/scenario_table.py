@@ -9,6 +9,7 @@ rule as for measured irregularities: the service never reads a path named by a r
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from pathlib import Path
 
 from flexride.contact.placement import Placement
@@ -32,7 +33,9 @@ def _builtin(kind: str, name: str) -> Profile | None:
     """A built-in profile, built once per process (S1002 takes 12 ms: every submission to the
     service loads the scenario's profiles to check them), or None for an unknown name.
     """
-    make = {("wheel", "s1002"): s1002, ("rail", "60e1"): rail_60e1}.get((kind, name))
+    makers: dict[tuple[str, str], Callable[[], Profile]] = {("wheel", "s1002"): s1002,
+                                                            ("rail", "60e1"): rail_60e1}
+    make = makers.get((kind, name))
     if make is None:
         return None
     profile = make()
