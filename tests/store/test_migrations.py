@@ -105,7 +105,7 @@ def test_revision_0004_makes_every_existing_job_a_simulation(engine):
         conn.execute(text(f"INSERT INTO flexride_jobs ({columns}) VALUES "
                           f"({row.format(id='a')})"))
     init_db(engine)
-    assert current_revision(engine) == head_revision() == "0004"
+    assert current_revision(engine) == head_revision()
     assert _differences(engine) == []
     with engine.begin() as conn:
         conn.execute(text(f"INSERT INTO flexride_jobs ({columns}) VALUES "

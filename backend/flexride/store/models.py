@@ -54,6 +54,9 @@ class Job(Base):
         # the job list, newest first: without it every page sorts the whole table
         Index("ix_flexride_jobs_created", "created_at", "id"),
         Index("ix_flexride_jobs_study", "study_id", "study_index"),
+        # result reuse and the duplicate check: the newest job of a kind, hash and status
+        # from the index's end, however often the scenario was submitted
+        Index("ix_flexride_jobs_reuse", "kind", "scenario_hash", "status", "finished_at"),
     )
 
     id: Mapped[str] = mapped_column(String(32), primary_key=True)
