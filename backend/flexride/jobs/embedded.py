@@ -35,19 +35,47 @@ _GROUP_STOP_GRACE_S = 2.0
 _STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
-def _exit_cleanly_on_signals() -> None:
-    """In a worker: Ctrl-C (SIGINT to the terminal's process group) is left to the API
-    process, which stops its workers; SIGTERM ends the worker through ``SystemExit``, so its
-    ``finally`` blocks and finalizers run (presence record, multiprocessing semaphores) and a
-    job it was running stays ``running`` for the API (or the next start) to queue again.
-    """
-    def _terminate(_signum: int, _frame: Any) -> None:
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second one must not cut the clean-up
-        raise SystemExit(0)
+class _Termination:
+    """How a worker ends on SIGTERM.
 
+    Busy (claiming or running a job), the handler raises ``SystemExit``, so ``finally``
+    blocks and finalizers run (presence record, multiprocessing semaphores) and a job being
+    run stays ``running`` for the API (or the next start) to queue again. Idle (waiting on the
+    runner's events), it only notes the request: an exception raised inside a
+    multiprocessing ``Event.wait`` unwinds its condition's lock half-acquired ("semaphore or
+    lock released too many times", exit code 1); the wait returns within its poll interval
+    and the loop then ends.
+    """
+
+    def __init__(self) -> None:
+        self.idle = False
+        self.requested = False
+
+    def handle(self, _signum: int, _frame: Any) -> None:
+        """The SIGTERM handler."""
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second one must not cut the clean-up
+        self.requested = True
+        if not self.idle:
+            raise SystemExit(0)
+
+    def wait(self, event: Any, timeout: float) -> bool:
+        """``event.wait(timeout)`` during which a SIGTERM only notes the request."""
+        self.idle = True
+        try:
+            return bool(event.wait(timeout))
+        finally:
+            self.idle = False
+
+
+def _exit_cleanly_on_signals() -> _Termination:
+    """In a worker: Ctrl-C (SIGINT to the terminal's process group) is left to the API
+    process, which stops its workers; SIGTERM ends the worker (:class:`_Termination`).
+    """
+    termination = _Termination()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, _terminate)
+    signal.signal(signal.SIGTERM, termination.handle)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)  # blocked by _spawn until now
+    return termination
 
 
 def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid: int) -> None:
@@ -68,7 +96,7 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
     from flexride.jobs.warmup import limit_blas_threads, warm_numba
     from flexride.study.run_job import JobContext, claimed_job, run_claimed
 
-    _exit_cleanly_on_signals()
+    termination = _exit_cleanly_on_signals()
     logging.basicConfig(level=str(settings_data.get("log_level", "info")).upper(),
                         format="%(asctime)s %(levelname)s [%(processName)s] %(message)s")
     limit_blas_threads(1)  # NumPy was imported while this module loaded
@@ -79,18 +107,19 @@ def worker_main(settings_data: dict[str, Any], wake: Any, stop: Any, parent_pid:
     warm_numba()
     claims = FaultLog(log, f"{name}: claiming a job")
     try:
-        while not stop.is_set() and os.getppid() == parent_pid:
+        while (not stop.is_set() and not termination.requested
+               and os.getppid() == parent_pid):
             try:
                 claim = ctx.store.claim_next(
                     KIND, name, stale_before=now() - settings.heartbeat_timeout_s,
                     dead=worker_is_dead)
             except Exception as exc:  # database briefly unavailable
                 claims.failed(exc)
-                stop.wait(_IDLE_POLL_S)
+                termination.wait(stop, _IDLE_POLL_S)
                 continue
             claims.succeeded()
             if claim is None:
-                if wake.wait(_IDLE_POLL_S):
+                if termination.wait(wake, _IDLE_POLL_S):
                     wake.clear()
                 continue
             if claim.claimed:
