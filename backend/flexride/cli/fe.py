@@ -1,9 +1,9 @@
 """``flexride fe …``: finite-element car body and bogie frame from the command line.
 
 Commands: ``modes`` (modal table and mass properties of a default model), ``reduce`` (reduction
-report), ``calibrate`` (model updating against target frequencies) and ``export`` (mesh and mode
-shapes as JSON). Every command takes ``--json``. User errors end with one line on standard error
-and exit code 2.
+report), ``calibrate`` (model updating against typed target frequencies or measured modes) and
+``export`` (mesh and mode shapes as JSON). Every command takes ``--json``. User errors end with
+one line on standard error and exit code 2.
 """
 
 from __future__ import annotations
@@ -191,50 +191,88 @@ def reduce_cmd(
     )
 
 
-def _parse_targets(text: str) -> list[float]:
-    try:
-        vals = [float(v) for v in text.replace(";", ",").split(",") if v.strip()]
-    except ValueError:
-        _fail(f"--targets must be comma-separated frequencies in Hz, got {text!r}")
-    if not vals or any(v <= 0 or not np.isfinite(v) for v in vals):
-        _fail(f"--targets must be positive frequencies in Hz, got {text!r}")
-    return vals
+def _calibration_targets(targets: str | None, measured: Path | None):
+    """The targets (and sensors) of ``calibrate``: typed or untyped frequencies, a modal-test
+    file, or paper Table 1 (untyped) when neither is given.
+    """
+    from flexride.fem.defaults import PAPER_TABLE1_HZ
+    from flexride.fem.modal_test import read_modal_test
+    from flexride.fem.targets import ModeTarget, parse_targets
+
+    if targets is not None and measured is not None:
+        _fail("give --targets or --measured, not both")
+    if measured is not None:
+        test = read_modal_test(measured)
+        return test.targets, test.sensors
+    if targets is None:
+        return [ModeTarget(f) for f in PAPER_TABLE1_HZ], None
+    return parse_targets(targets), None
 
 
-@fe_app.command("calibrate")
+def _calibrate_help() -> str:
+    from flexride.fem.mode_types import MODE_TYPES
+
+    types = "; ".join(f"'{k}'" for k in MODE_TYPES)
+    return (
+        "Update car-body panel sections and mass split so that the model modes paired with the "
+        "targets hit their frequencies.\n\n"
+        "Targets: --targets FREQ[:TYPE],… (Hz, any order), e.g. "
+        "'5.03:torsion,6.11:rhombic,8.84:first vertical bending'; a typed target is paired "
+        "only with a model mode of its type, an untyped one with the nearest free mode in "
+        f"frequency. Types: {types}; bending and torsion may start with an order (first, "
+        "second …). Or --measured FILE: a modal-test CSV (x_m,y_m,z_m,direction, then one "
+        "mode_<f>Hz column per mode; docs/fem.md), paired by MAC at the sensors. Without "
+        "either: paper Table 1, untyped. Targets whose type no computed mode has are reported "
+        "as NOT PAIRED."
+    )
+
+
+@fe_app.command("calibrate", help=_calibrate_help())
 def calibrate_cmd(
-    targets: Annotated[
-        str, typer.Option("--targets", help="Target frequencies (Hz), comma-separated, ascending.")
-    ] = "5.03,6.11,6.33,7.40,8.00,8.84",
+    targets: Annotated[str | None, typer.Option(
+        "--targets", help="Targets FREQ[:TYPE],… in Hz, e.g. '6.11:rhombic,8.84:first vertical "
+        "bending' (default: paper Table 1, untyped).", show_default=False)] = None,
+    measured: Annotated[Path | None, typer.Option(
+        "--measured", help="Modal-test CSV: sensors and measured mode shapes (docs/fem.md).")
+    ] = None,
     as_json: JsonOpt = False,
     element_size: SizeOpt = 0.2,
     max_evaluations: Annotated[int, typer.Option("--max-evaluations", min=1, max=2000)] = 90,
     variables: Annotated[
         str, typer.Option("--variables", help="Comma-separated calibration variables.")
     ] = "",
+    n_modes: Annotated[int | None, typer.Option(
+        "--n-modes", min=1, max=200, help="Model modes computed and classified per evaluation "
+        "(default: 3 × targets, at least targets + 6).", show_default=False)] = None,
+    min_mac: Annotated[float, typer.Option(
+        "--min-mac", min=0.0, max=1.0, help="Least MAC of a pair with a measured mode.")] = 0.5,
     preset: PresetOpt = "paper-metro",
 ) -> None:
-    """Update car-body panel sections and mass split to hit target frequencies."""
+    """Calibrate the car body against typed targets or measured modes (help: above)."""
     from flexride.fem.calibration import DEFAULT_VARIABLES, calibrate_carbody
     from flexride.fem.vehicle_models import carbody_params_for, carbody_target
 
-    t = _parse_targets(targets)
     names = tuple(v.strip() for v in variables.split(",") if v.strip()) or DEFAULT_VARIABLES
     try:
+        goals, sensors = _calibration_targets(targets, measured)
         vehicle = _vehicle(preset)
 
         def progress(n: int, f) -> None:
             if not as_json:
-                _err.print(f"  evaluation {n}: " + ", ".join(f"{v:.3f}" for v in f) + " Hz")
+                _err.print(f"  evaluation {n}: "
+                           + ", ".join("-" if np.isnan(v) else f"{v:.3f}" for v in f) + " Hz")
 
         res = calibrate_carbody(
-            t,
+            goals,
             carbody_target(vehicle),
             base=carbody_params_for(vehicle),
             variables=names,
             element_size=element_size,
             max_evaluations=max_evaluations,
             progress=progress,
+            n_modes=n_modes,
+            sensors=sensors,
+            min_mac=min_mac,
         )
     except FlexrideError as exc:
         _fail(str(exc))
@@ -244,6 +282,9 @@ def calibrate_cmd(
     _out.print(res.table(), markup=False)
     _out.print("calibrated values (paste into flexride/fem/defaults.py CARBODY_CALIBRATED):")
     _out.print(json.dumps({k: round(v, 6) for k, v in res.values.items()}), markup=False)
+    if res.unpaired:
+        _err.print(f"warning: {len(res.unpaired)} target(s) NOT PAIRED with a model mode "
+                   "(reasons above)", markup=False)
 
 
 @fe_app.command("export")

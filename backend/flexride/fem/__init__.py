@@ -16,7 +16,11 @@ Public entry points:
   the service's exports);
 * :mod:`flexride.fem.importers` — external M and K (MatrixMarket, ANSYS HBMAT and .full, Nastran
   DMIG and OP4);
-* :mod:`flexride.fem.calibration` — model updating against target frequencies.
+* :mod:`flexride.fem.calibration` — model updating against targets
+  (:class:`~flexride.fem.targets.ModeTarget`: frequency, mode type of
+  :mod:`~flexride.fem.mode_types`, reference shape), paired with model modes by
+  :mod:`~flexride.fem.pairing` (type, MAC of :mod:`~flexride.fem.mac`, frequency);
+  measured modes from :mod:`flexride.fem.modal_test`.
 
 pyfe3d is used only inside :mod:`flexride.fem.pyfe3d_adapter`. Nothing here is imported by
 ``import flexride``; import the submodules you need.

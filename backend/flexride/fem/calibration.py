@@ -1,29 +1,42 @@
-"""Model updating of the car body against target natural frequencies.
+"""Model updating of the car body against target modes: frequencies, types, measured shapes.
 
 Bounded nonlinear least squares (SciPy ``least_squares``, trust-region reflective) on the
-relative errors of the first elastic frequencies (sorted), over panel sections (depth and face
-thickness of the double-skin extrusions), a stiffness scale of the underframe beams and the
-share of under-floor equipment in the non-structural mass. Mass, CG and inertias stay matched at
-every evaluation (the non-structural mass is redistributed each time), and a weak pull towards
-the starting values keeps the answer unique when there are more variables than targets.
+relative frequency errors of the targets, over panel sections (depth and face thickness of the
+double-skin extrusions), a stiffness scale of the underframe beams and the share of under-floor
+equipment in the non-structural mass. Each target is compared with the model mode *paired* with
+it (:mod:`flexride.fem.pairing`: by type, by MAC where the target has a shape, by frequency),
+never with the mode of the same rank: at every evaluation more modes than targets are computed
+and classified, and the pairing is made anew. The Jacobian follows each paired mode through its
+finite-difference steps by its shape (mass-weighted MAC), so a change of mode order between
+two nearby points does not enter the derivatives. Mass, CG and inertias stay matched at every
+evaluation (the non-structural mass is redistributed each time), and a weak pull towards the
+starting values keeps the answer unique when there are more variables than targets.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
 
 from flexride.errors import FEModelError
+from flexride.fem.calibration_eval import (
+    CalibrationSetup,
+    Evaluations,
+    ModelPoint,
+    paired_residuals,
+)
+from flexride.fem.calibration_result import CalibrationResult
 from flexride.fem.carbody import CarBodyParams, build_carbody
-from flexride.fem.classify import classify_mode
 from flexride.fem.eigen import Modes, free_free_modes
 from flexride.fem.massmatch import InertiaTarget
+from flexride.fem.modal_test import Sensors
 from flexride.fem.model import FEModel
+from flexride.fem.pairing import MIN_MAC
 from flexride.fem.rigid import rigid_body_vectors
+from flexride.fem.targets import ModeTarget, as_targets
 
 #: Calibration variables and their bounds (SI units).
 BOUNDS: dict[str, tuple[float, float]] = {
@@ -46,99 +59,8 @@ DEFAULT_VARIABLES: tuple[str, ...] = (
     "beam_scale",
     "nsm_underfloor",
 )
-
-
-@dataclass
-class CalibrationResult:
-    """Outcome of a calibration.
-
-    Attributes
-    ----------
-    targets_hz : list of float
-        Target frequencies (Hz).
-    frequencies_hz : list of float
-        Calibrated first elastic frequencies (Hz).
-    errors : list of float
-        Relative errors (-).
-    classification : list of str
-        Dominant deformation of each calibrated mode.
-    values : dict of str to float
-        Calibrated variables (SI).
-    initial : dict of str to float
-        Starting values.
-    bounds : dict of str to (float, float)
-        Bounds used.
-    at_bound : list of str
-        Variables that ended on a bound.
-    n_evaluations : int
-        Number of FE evaluations.
-    seconds : float
-        Wall time (s).
-    element_size : float
-        Element size (m).
-    success : bool
-        Whether every error is within ``tolerance``.
-    tolerance : float
-        Accepted relative error.
-    history : list of dict
-        Variables and frequencies of every evaluation.
-    """
-
-    targets_hz: list[float]
-    frequencies_hz: list[float]
-    errors: list[float]
-    classification: list[str]
-    values: dict[str, float]
-    initial: dict[str, float]
-    bounds: dict[str, tuple[float, float]]
-    at_bound: list[str]
-    n_evaluations: int
-    seconds: float
-    element_size: float
-    success: bool
-    tolerance: float
-    history: list[dict] = field(default_factory=list)
-
-    def to_dict(self) -> dict:
-        """JSON-able dict (history left out)."""
-        return {
-            "targets_hz": self.targets_hz,
-            "frequencies_hz": self.frequencies_hz,
-            "errors": self.errors,
-            "classification": self.classification,
-            "values": self.values,
-            "initial": self.initial,
-            "bounds": {k: list(v) for k, v in self.bounds.items()},
-            "at_bound": self.at_bound,
-            "n_evaluations": self.n_evaluations,
-            "seconds": self.seconds,
-            "element_size": self.element_size,
-            "success": self.success,
-            "tolerance": self.tolerance,
-        }
-
-    def table(self) -> str:
-        """Readable summary."""
-        lines = [
-            f"calibration ({self.n_evaluations} FE evaluations, {self.seconds:.0f} s, "
-            f"element size {self.element_size:g} m): "
-            + ("all within" if self.success else "NOT all within")
-            + f" ±{100 * self.tolerance:g} %",
-            f"{'mode':>4} {'target Hz':>10} {'model Hz':>9} {'error %':>8}  classification",
-        ]
-        for k, (t, f, e) in enumerate(
-            zip(self.targets_hz, self.frequencies_hz, self.errors, strict=False)
-        ):
-            c = self.classification[k] if k < len(self.classification) else ""
-            lines.append(f"{k + 1:4d} {t:10.3f} {f:9.3f} {100 * e:8.2f}  {c}")
-        lines.append("variables (initial -> calibrated, bounds):")
-        for name, v in self.values.items():
-            lo, hi = self.bounds[name]
-            flag = "  AT BOUND" if name in self.at_bound else ""
-            lines.append(
-                f"  {name:15s} {self.initial[name]:.5g} -> {v:.5g}  [{lo:g}, {hi:g}]{flag}"
-            )
-        return "\n".join(lines)
+#: Finite-difference step of the Jacobian on the log of each variable (5 %).
+LOG_STEP = 0.05
 
 
 def carbody_frequencies(
@@ -151,8 +73,15 @@ def carbody_frequencies(
     return modes.frequencies[6 : 6 + n], model, modes
 
 
+def default_mode_count(n_targets: int) -> int:
+    """Elastic modes computed for ``n_targets`` targets: three times as many, at least six
+    more, so that every target type has modes to choose from.
+    """
+    return max(3 * n_targets, n_targets + 6)
+
+
 def calibrate_carbody(
-    targets_hz: Sequence[float],
+    targets: Sequence[ModeTarget | float],
     target: InertiaTarget,
     base: CarBodyParams | None = None,
     variables: Sequence[str] = DEFAULT_VARIABLES,
@@ -161,13 +90,20 @@ def calibrate_carbody(
     regularisation: float = 0.02,
     max_evaluations: int = 60,
     progress: Callable[[int, np.ndarray], None] | None = None,
+    *,
+    n_modes: int | None = None,
+    sensors: Sensors | None = None,
+    max_sensor_distance: float | None = None,
+    min_mac: float = MIN_MAC,
 ) -> CalibrationResult:
-    """Update car-body sections and mass split so the first elastic modes hit ``targets_hz``.
+    """Update car-body sections and mass split so that the paired modes hit the targets.
 
     Parameters
     ----------
-    targets_hz : sequence of float
-        Target frequencies (Hz) of the first ``len(targets_hz)`` elastic modes, ascending.
+    targets : sequence of ModeTarget or float
+        Targets in any order: :class:`~flexride.fem.targets.ModeTarget` (frequency in Hz,
+        optional type and reference shape at ``sensors``) or bare frequencies (Hz), which are
+        untyped targets paired with the nearest free mode in frequency.
     target : InertiaTarget
         Mass, CG and inertias kept matched.
     base : CarBodyParams, optional
@@ -183,51 +119,107 @@ def calibrate_carbody(
     max_evaluations : int
         Budget of FE evaluations.
     progress : callable, optional
-        Called as ``progress(n_evaluations, frequencies)`` after each evaluation.
+        Called as ``progress(n_evaluations, frequencies)`` after each evaluation, with the
+        frequency (Hz) of each target's paired mode (NaN if unpaired).
+    n_modes : int, optional
+        Elastic modes computed and classified per evaluation (:func:`default_mode_count`
+        when omitted); a target can only be paired with one of them.
+    sensors : Sensors, optional
+        Sensor DOFs of the targets' shapes (e.g. from
+        :func:`flexride.fem.modal_test.read_modal_test`); each is taken at its nearest node.
+    max_sensor_distance : float, optional
+        Largest accepted sensor-to-node distance (m); the element size when omitted.
+    min_mac : float
+        Least MAC of a pair for targets with a shape (-).
 
     Returns
     -------
     CalibrationResult
+        The pairs at the calibrated values (targets without a mode of their type, or without
+        a similar enough shape, are listed with the reason), the variables and the modes.
+
+    Raises
+    ------
+    FEModelError
+        For no or invalid targets, unknown variables, fewer computed modes than targets,
+        shapes without sensors or sensors far from the model.
     """
-    t = _check_targets(targets_hz, variables)
+    setup = _setup(targets, target, base, variables, element_size, n_modes, sensors,
+                   max_sensor_distance, min_mac)
+    x0, lo, hi = _start_values(setup.base, list(setup.names))
+    z0 = np.log(x0)
+    t_start = time.perf_counter()
+    evaluate = Evaluations(setup, progress)
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        return np.concatenate([paired_residuals(evaluate(z).pairs),
+                               regularisation * (z - z0)])
+
+    def jacobian(z: np.ndarray) -> np.ndarray:
+        return _jacobian(evaluate, z, np.log(hi), regularisation)
+
+    res = least_squares(residual, z0, jac=jacobian, bounds=(np.log(lo), np.log(hi)),
+                        x_scale=1.0,
+                        max_nfev=max(1, max_evaluations // (len(setup.names) + 1)),
+                        xtol=1e-4, ftol=1e-5)
+    best = evaluate(res.x)
+    return _result(setup, best, np.exp(res.x), x0, lo, hi, evaluate, tolerance,
+                   time.perf_counter() - t_start)
+
+
+def _setup(targets: Sequence[ModeTarget | float], inertia: InertiaTarget,
+           base: CarBodyParams | None, variables: Sequence[str], element_size: float,
+           n_modes: int | None, sensors: Sensors | None, max_sensor_distance: float | None,
+           min_mac: float) -> CalibrationSetup:
+    """The checked inputs of a calibration.
+
+    Raises
+    ------
+    FEModelError
+        See :func:`calibrate_carbody`.
+    """
+    t = as_targets(targets)
+    unknown = [v for v in variables if v not in BOUNDS]
+    if unknown or not variables:
+        raise FEModelError(f"unknown calibration variables {unknown}; use {sorted(BOUNDS)}")
+    n = default_mode_count(len(t)) if n_modes is None else int(n_modes)
+    if n < len(t):
+        raise FEModelError(f"{n} computed modes cannot pair {len(t)} targets: compute more")
+    if sensors is None and any(x.shape is not None for x in t):
+        raise FEModelError("targets with shapes need the sensors their shapes are given at")
+    if not 0.0 <= min_mac <= 1.0:
+        raise FEModelError(f"min_mac must lie in [0, 1], got {min_mac}")
     if base is None:
         from flexride.fem.defaults import default_carbody_params
 
         base = default_carbody_params()
-    names = list(variables)
-    x0, lo, hi = _start_values(base, names)
-    z0 = np.log(x0)
-    t_start = time.perf_counter()
-    evaluate = _Evaluations(base, names, target, element_size, t.size, progress)
-
-    def residual(z: np.ndarray) -> np.ndarray:
-        f = evaluate(z)
-        return np.concatenate([f / t - 1.0, regularisation * (z - z0)])
-
-    res = least_squares(residual, z0, bounds=(np.log(lo), np.log(hi)), x_scale=1.0,
-                        diff_step=0.03, max_nfev=max(1, max_evaluations // (len(names) + 1)),
-                        xtol=1e-4, ftol=1e-5)
-    z_best = res.x
-    f_best = evaluate(z_best)
-    x_best = np.exp(z_best)
-    err = f_best / t - 1.0
-    p_best = base.with_values(**dict(zip(names, map(float, x_best), strict=False)))
-    return CalibrationResult(
-        targets_hz=t.tolist(),
-        frequencies_hz=[float(v) for v in f_best],
-        errors=[float(v) for v in err],
-        classification=_mode_names(p_best, target, element_size, t.size),
-        values={n: float(v) for n, v in zip(names, x_best, strict=False)},
-        initial={n: float(v) for n, v in zip(names, x0, strict=False)},
-        bounds={n: BOUNDS[n] for n in names},
-        at_bound=_at_bound(names, x_best, lo, hi),
-        n_evaluations=len(evaluate.history),
-        seconds=time.perf_counter() - t_start,
-        element_size=float(element_size),
-        success=bool(np.all(np.abs(err) <= tolerance)),
-        tolerance=float(tolerance),
-        history=evaluate.history,
+    return CalibrationSetup(
+        base=base, names=tuple(variables), inertia=inertia, element_size=float(element_size),
+        n_modes=n, targets=tuple(t), sensors=sensors,
+        max_sensor_distance=float(max_sensor_distance or element_size), min_mac=float(min_mac),
     )
+
+
+def _jacobian(evaluate: Evaluations, z: np.ndarray, z_hi: np.ndarray,
+              regularisation: float) -> np.ndarray:
+    """Derivatives of the residuals by forward differences of :data:`LOG_STEP` on each log
+    variable (backward at the upper bound), each target's paired mode followed by its shape.
+    """
+    base = evaluate(z)
+    f0 = base.modes.frequencies_hz
+    n_t, n_v = len(base.pairs), z.size
+    J = np.zeros((n_t + n_v, n_v))
+    J[n_t:] = regularisation * np.eye(n_v)
+    for k in range(n_v):
+        step = LOG_STEP if z[k] + LOG_STEP <= z_hi[k] else -LOG_STEP
+        moved = evaluate(z + step * np.eye(n_v)[k])
+        for i, pair in enumerate(base.pairs):
+            if pair.mode is None:
+                continue
+            j = base.follow(pair.mode, moved)
+            df = moved.modes.frequencies_hz[j] - f0[pair.mode]
+            J[i, k] = df / pair.target.frequency_hz / step
+    return J
 
 
 def _start_values(base: CarBodyParams, names: list[str]) -> tuple[np.ndarray, np.ndarray,
@@ -241,77 +233,38 @@ def _start_values(base: CarBodyParams, names: list[str]) -> tuple[np.ndarray, np
     return np.clip(x0, lo * 1.0001, hi * 0.9999), lo, hi
 
 
-def _at_bound(names: list[str], x: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> list[str]:
+def _at_bound(names: Sequence[str], x: np.ndarray, lo: np.ndarray,
+              hi: np.ndarray) -> list[str]:
     """The variables whose values ``x`` are within 0.1 % of a bound."""
     return [
         n
-        for n, v, a, b in zip(names, x, lo, hi, strict=False)
+        for n, v, a, b in zip(names, x, lo, hi, strict=True)
         if v <= a * 1.001 or v >= b * 0.999
     ]
 
 
-def _check_targets(targets_hz: Sequence[float], variables: Sequence[str]) -> np.ndarray:
-    """The target frequencies (Hz) as an array, after checking them and the variable names.
-
-    Raises
-    ------
-    FEModelError
-        Targets that are not positive, finite and ascending, or unknown variables.
-    """
-    t = np.asarray(targets_hz, dtype=float)
-    if t.size == 0 or np.any(~np.isfinite(t)) or np.any(t <= 0):
-        raise FEModelError("target frequencies must be positive numbers")
-    if np.any(np.diff(t) < 0):
-        raise FEModelError("target frequencies must be in ascending order")
-    unknown = [v for v in variables if v not in BOUNDS]
-    if unknown:
-        raise FEModelError(f"unknown calibration variables {unknown}; use {sorted(BOUNDS)}")
-    return t
-
-
-class _Evaluations:
-    """The first elastic frequencies (Hz) of the car body at the log-values ``z`` of the
-    calibration variables, each point evaluated once (remembered at 12 decimals of ``z``).
-
-    Attributes
-    ----------
-    history : list of dict
-        Every FE evaluation: ``values`` of the variables (SI) and ``frequencies`` (Hz).
-    """
-
-    def __init__(self, base: CarBodyParams, names: list[str], target: InertiaTarget,
-                 element_size: float, n: int,
-                 progress: Callable[[int, np.ndarray], None] | None) -> None:
-        self.base, self.names, self.target = base, names, target
-        self.element_size, self.n, self.progress = element_size, n, progress
-        self.history: list[dict] = []
-        self._memo: dict[tuple, np.ndarray] = {}
-
-    def __call__(self, z: np.ndarray) -> np.ndarray:
-        key = tuple(np.round(z, 12))
-        if key in self._memo:
-            return self._memo[key]
-        x = np.exp(z)
-        p = self.base.with_values(**dict(zip(self.names, map(float, x), strict=False)))
-        f, _, _ = carbody_frequencies(p, self.target, self.element_size, self.n)
-        self._memo[key] = f
-        self.history.append(
-            {"values": dict(zip(self.names, map(float, x), strict=False)),
-             "frequencies": f.tolist()}
-        )
-        if self.progress is not None:
-            self.progress(len(self.history), f)
-        return f
-
-
-def _mode_names(params: CarBodyParams, target: InertiaTarget, element_size: float,
-                n: int) -> list[str]:
-    """Names of the first ``n`` elastic modes of the car body with ``params`` (element size
-    in m).
-    """
-    _, model, modes = carbody_frequencies(params, target, element_size, n)
-    _, M = model.assemble()
-    return [
-        classify_mode(modes.shapes[:, 6 + k], M, model.nodes, model.node_region, model.region_names)
-        for k in range(n)
-    ]
+def _result(setup: CalibrationSetup, best: ModelPoint, x: np.ndarray, x0: np.ndarray,
+            lo: np.ndarray, hi: np.ndarray, evaluate: Evaluations, tolerance: float,
+            seconds: float) -> CalibrationResult:
+    """The result at the calibrated point ``best`` (variables ``x``, started at ``x0``)."""
+    names = setup.names
+    errors = [p.error for p in best.pairs]
+    sn = evaluate.sensor_nodes
+    return CalibrationResult(
+        pairs=best.pairs,
+        model_modes=[(float(f), t) for f, t in zip(best.modes.frequencies_hz, best.modes.types,
+                                                   strict=True)],
+        values={n: float(v) for n, v in zip(names, x, strict=True)},
+        initial={n: float(v) for n, v in zip(names, x0, strict=True)},
+        bounds={n: BOUNDS[n] for n in names},
+        at_bound=_at_bound(names, x, lo, hi),
+        n_evaluations=len(evaluate.history),
+        seconds=seconds,
+        element_size=setup.element_size,
+        success=all(e is not None and abs(e) <= tolerance for e in errors),
+        tolerance=float(tolerance),
+        min_mac=setup.min_mac,
+        sensors=None if sn is None else {"n_dofs": int(sn.dofs.size),
+                                         "max_distance_m": float(sn.distances.max())},
+        history=evaluate.history,
+    )

@@ -3,13 +3,35 @@
 Each cross-section (nodes that share an x coordinate) is fitted with a rigid in-plane motion:
 lateral ``v``, vertical ``w`` and twist ``θx``. The share of the mode's kinetic energy that these
 section motions carry tells beam-like modes (vertical / lateral bending, torsion) from modes that
-deform the cross-section; the latter are named after the region that carries most of their
-energy (roof, floor, side walls: breathing when the two walls move in opposite directions).
+deform the cross-section. A cross-section deformation whose in-plane shear (the section's
+rectangle becoming a rhombus) carries at least half of the displacement is *rhombic*; the others
+are named after the region that carries most of their energy (roof, floor, side walls: breathing
+when the two walls move in opposite directions). Every name comes from the vocabulary of
+:mod:`flexride.fem.mode_types`.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from flexride.fem.mode_types import (
+    FLOOR_LOCAL,
+    LATERAL_BENDING,
+    RHOMBIC,
+    ROOF_FLOOR_BREATHING,
+    ROOF_LOCAL,
+    SECTION_DEFORMATION,
+    SIDE_WALL_BREATHING,
+    SIDE_WALLS_LATERAL,
+    TORSION,
+    UNCLASSIFIED,
+    VERTICAL_BENDING,
+    beam_mode_name,
+)
+
+#: Share of a mode's (geometric) displacement carried by the in-plane shear of the
+#: cross-sections from which a non-beam-like mode is rhombic.
+RHOMBIC_THRESHOLD = 0.5
 
 
 def _energy_density(phi: np.ndarray, M) -> np.ndarray:
@@ -20,9 +42,6 @@ def _energy_density(phi: np.ndarray, M) -> np.ndarray:
 def _zero_crossings(values: np.ndarray) -> int:
     v = values[np.abs(values) > 0.05 * np.max(np.abs(values))]
     return int(np.sum(np.sign(v[1:]) != np.sign(v[:-1]))) if v.size > 1 else 0
-
-
-_ORD = {1: "first", 2: "second", 3: "third", 4: "fourth"}
 
 
 def classify_mode(
@@ -52,25 +71,71 @@ def classify_mode(
     Returns
     -------
     str
-        E.g. ``first vertical bending``, ``torsion``, ``breathing (side walls)``,
-        ``floor local``, ``roof–floor breathing``; a beam-like part of a local mode is added
-        (``floor local + first vertical bending``).
+        A name built from :data:`flexride.fem.mode_types.MODE_TYPES`, e.g.
+        ``first vertical bending``, ``torsion``, ``rhombic``, ``breathing (side walls)``,
+        ``floor local``, ``roof–floor breathing``; a beam-like part of 30–60 % of a
+        cross-section deformation is added (``floor local + first vertical bending``).
     """
     n = nodes.shape[0]
     u = phi.reshape(n, 6)[:, :3]
     total = float(np.sum(u**2))
     if total <= 0:
-        return "unclassified"
+        return UNCLASSIFIED
     energies, sections = _section_motions(u, nodes)
     beam = sum(energies) / total
     beam_name = _beam_name(energies, sections)
     if beam >= beam_threshold:
         return beam_name
     needed = {"floor", "roof", "wall_left", "wall_right"}
-    if node_region is None or not region_names or not needed <= set(region_names):
-        return "cross-section deformation"
-    local = _local_name(u, nodes, node_region, region_names)
+    if section_shear_share(u, nodes) >= RHOMBIC_THRESHOLD:
+        local = RHOMBIC
+    elif node_region is None or not region_names or not needed <= set(region_names):
+        return SECTION_DEFORMATION
+    else:
+        local = _local_name(u, nodes, node_region, region_names)
     return f"{local} + {beam_name}" if beam >= 0.3 else local
+
+
+def section_shear_share(u: np.ndarray, nodes: np.ndarray) -> float:
+    """Share of the displacement ``u`` (n, 3) carried by the in-plane shear of the
+    cross-sections (nodes sharing an x coordinate, at least four).
+
+    Each section's in-plane translations are fitted by least squares with a linear field
+    about its centroid, ``u_y = v + (γ − θ) Δz + ε_y Δy`` and ``u_z = w + (γ + θ) Δy + ε_z Δz``:
+    translations ``v``, ``w``, twist ``θ``, stretches ``ε_y``, ``ε_z`` and the pure shear
+    ``γ`` that turns the section's rectangle into a rhombus (one diagonal lengthens, the
+    other shortens) — the rhombic distortion.
+
+    Returns
+    -------
+    float
+        ``Σ γ² (Δy² + Δz²)`` over all sections' nodes divided by ``Σ |u|²`` (-).
+    """
+    total = float(np.sum(u**2))
+    if total <= 0:
+        return 0.0
+    shear = 0.0
+    for idx in _stations(nodes, 4):
+        dy = nodes[idx, 1] - nodes[idx, 1].mean()
+        dz = nodes[idx, 2] - nodes[idx, 2].mean()
+        m = idx.size
+        A = np.zeros((2 * m, 6))
+        A[:m, 0], A[m:, 1] = 1.0, 1.0
+        A[:m, 2], A[m:, 2] = -dz, dy  # twist θ
+        A[:m, 3], A[m:, 3] = dz, dy  # shear γ
+        A[:m, 4], A[m:, 5] = dy, dz  # stretches ε_y, ε_z
+        sol, *_ = np.linalg.lstsq(A, np.concatenate([u[idx, 1], u[idx, 2]]), rcond=None)
+        shear += sol[3] ** 2 * float(np.sum(dy**2 + dz**2))
+    return shear / total
+
+
+def _stations(nodes: np.ndarray, min_nodes: int) -> list[np.ndarray]:
+    """Node indices of each cross-section (nodes sharing x to 0.1 mm) with at least
+    ``min_nodes`` nodes, in ascending x.
+    """
+    _, inv = np.unique(np.round(nodes[:, 0], 4), return_inverse=True)
+    groups = [np.flatnonzero(inv == s) for s in range(int(inv.max()) + 1)] if inv.size else []
+    return [g for g in groups if g.size >= min_nodes]
 
 
 def _section_motions(u: np.ndarray, nodes: np.ndarray) -> tuple[
@@ -124,16 +189,15 @@ def _beam_name(energies: tuple[float, float, float],
     series = (w_sec, v_sec, t_sec)[kind]
     order = _zero_crossings(series)
     if kind == 2:
-        return "torsion" if order <= 1 else f"{_ORD.get(order, f'{order}th')} torsion"
-    k = max(order - 1, 1)
-    return f"{_ORD.get(k, f'{k}th')} {('vertical', 'lateral')[kind]} bending"
+        return beam_mode_name(TORSION, max(order, 1))
+    return beam_mode_name((VERTICAL_BENDING, LATERAL_BENDING)[kind], max(order - 1, 1))
 
 
 def _local_name(u: np.ndarray, nodes: np.ndarray, node_region: np.ndarray,
                 region_names: list[str]) -> str:
     """Name of a cross-section deformation after the region with the largest rms translation:
     side walls (breathing when they move against each other), floor or roof (roof–floor
-    breathing, rhombic deformation when the roof moves mostly laterally).
+    breathing when the other moves against it by more than half as much).
     """
     rms = {}
     for r, name in enumerate(region_names):
@@ -144,16 +208,12 @@ def _local_name(u: np.ndarray, nodes: np.ndarray, node_region: np.ndarray,
     if wall >= max(floor, roof):
         return _walls(u, nodes, node_region, region_names)
     if floor >= roof:
-        local = "floor local"
+        local = FLOOR_LOCAL
         if roof > 0.5 * floor:
             local = _roof_floor(u, nodes, node_region, region_names) or local
         return local
-    local = "roof local"
-    ir = region_names.index("roof")
-    sel = node_region == ir
-    if np.sum(u[sel, 1] ** 2) > np.sum(u[sel, 2] ** 2):
-        local = "rhombic (lateral shear) deformation"
-    elif floor > 0.5 * roof:
+    local = ROOF_LOCAL
+    if floor > 0.5 * roof:
         local = _roof_floor(u, nodes, node_region, region_names) or local
     return local
 
@@ -172,7 +232,7 @@ def _walls(u: np.ndarray, nodes: np.ndarray, node_region: np.ndarray,
         j = key_r.get((round(a, 3), round(c, 3)))
         if j is not None:
             dot += uy_l[k] * uy_r[j]
-    return "breathing (side walls)" if dot < 0 else "side walls lateral"
+    return SIDE_WALL_BREATHING if dot < 0 else SIDE_WALLS_LATERAL
 
 
 def _roof_floor(u, nodes, node_region, region_names) -> str | None:
@@ -186,7 +246,7 @@ def _roof_floor(u, nodes, node_region, region_names) -> str | None:
         wr = u[roof & (np.abs(nodes[:, 0] - x) < 1e-3), 2].mean() if roof.any() else 0.0
         wf = u[floor & (np.abs(nodes[:, 0] - x) < 1e-3), 2].mean()
         dot += wr * wf
-    return "roof–floor breathing" if dot < 0 else None
+    return ROOF_FLOOR_BREATHING if dot < 0 else None
 
 
 def classify_plane_frame_mode(phi: np.ndarray, M, nodes: np.ndarray) -> str:

@@ -6,23 +6,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from flexride.fem.mac import mac
 from flexride.fem.massmatch import InertiaTarget
 from flexride.fem.rigid import MassProperties
 
 
 def mac_matrix(A: np.ndarray, B: np.ndarray, M=None) -> np.ndarray:
-    """Modal assurance criterion between the columns of ``A`` and ``B``.
-
-    ``MAC_ij = (a_iᵀ W b_j)² / ((a_iᵀ W a_i)(b_jᵀ W b_j))`` with ``W = M`` (mass-weighted, the
-    default when ``M`` is given, which makes translations and rotations comparable) or the
-    identity.
+    """Modal assurance criterion between the columns of ``A`` and ``B``, mass-weighted when
+    ``M`` is given (which makes translations and rotations comparable); see
+    :func:`flexride.fem.mac.mac`.
     """
-    WB = B if M is None else M @ B
-    WA = A if M is None else M @ A
-    num = (A.T @ WB) ** 2
-    da = np.einsum("ij,ij->j", A, WA)
-    db = np.einsum("ij,ij->j", B, WB)
-    return num / np.maximum(np.outer(da, db), 1e-300)
+    return mac(A, B, M)
 
 
 @dataclass
