@@ -178,7 +178,8 @@ function floorMapCard(base, signal) {
   async function compute() {
     const b = base();
     const key = JSON.stringify([b, spacing.value]);
-    if (!b || (key === state.key && state.data)) return; // the same map
+    // the same map, drawn or on its way (Enter fires both keydown and change: one request)
+    if (!b || key === state.key) return;
     state.key = key;
     const my = ++state.seq;
     state.ctrl?.abort();
@@ -200,6 +201,7 @@ function floorMapCard(base, signal) {
     } catch (err) {
       if (my !== state.seq || signal.aborted || err?.name === "AbortError") return;
       state.data = null;
+      state.key = null; // the same spacing may be asked again
       const at = err.items?.find((i) => (i.loc || []).join(".").endsWith("floor_map.spacing_m"));
       if (at) {
         spacingErr.textContent = at.msg;
