@@ -11,7 +11,7 @@ rigid and flexible vehicle models share one code path.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -122,6 +122,27 @@ class ModalBody:
         w = 2.0 * np.pi * self.elastic_frequencies
         return np.concatenate([np.zeros(6), 2.0 * self.elastic_damping * w])
 
+    def with_modes(self, modes: Sequence[int]) -> ModalBody:
+        """This body with only the elastic ``modes`` (indices into
+        :attr:`elastic_frequencies`, in the order given) and its rigid coordinates; shapes,
+        markers and :attr:`shape_at` are restricted to them (e.g. the rigid modes and one mode
+        of a finite-element body, to compare with a beam's first bending).
+        """
+        idx = np.asarray(modes, dtype=np.int64).reshape(-1)
+        if idx.size and (idx.min() < 0 or idx.max() >= self.n_elastic):
+            raise ValueError(f"body {self.name!r} has {self.n_elastic} elastic modes; "
+                             f"modes {idx.tolist()} are out of range")
+        columns = np.concatenate([np.arange(6), 6 + idx])
+        return ModalBody(
+            name=self.name, mass=self.mass, inertia=self.inertia.copy(), x_ref=self.x_ref,
+            cg_height=self.cg_height, elastic_frequencies=self.elastic_frequencies[idx].copy(),
+            elastic_damping=self.elastic_damping[idx].copy(),
+            elastic_shapes={k: v[:, idx].copy() for k, v in self.elastic_shapes.items()},
+            markers={k: v[:, columns].copy() for k, v in self.markers.items()},
+            marker_positions={k: v.copy() for k, v in self.marker_positions.items()},
+            is_wheelset=self.is_wheelset,
+            shape_at=None if self.shape_at is None else _columns_of(self.shape_at, idx))
+
     def add_marker(
         self,
         name: str,
@@ -162,6 +183,15 @@ class ModalBody:
             phi[:, 6:] = elastic
         self.markers[name] = phi
         self.marker_positions[name] = pos
+
+
+def _columns_of(shape_at: Callable[[np.ndarray], np.ndarray], idx: np.ndarray
+                ) -> Callable[[np.ndarray], np.ndarray]:
+    """``shape_at`` with only the elastic columns ``idx`` of its (6, n_elastic) shapes."""
+    def restricted(position: np.ndarray) -> np.ndarray:
+        return np.asarray(shape_at(position))[:, idx]
+
+    return restricted
 
 
 def rigid_body(
