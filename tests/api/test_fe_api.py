@@ -371,3 +371,42 @@ def test_a_build_in_progress_is_reported_without_the_token(make_client):
     assert client.get(f"{API}/fe/frame", headers=auth).status_code == 202
     r = client.get(f"{API}/fe/frame")
     assert r.status_code == 202 and r.json()["status"] == "queued"
+
+
+# -- the pairing of a body's modes with calibration targets ----------------------------------------
+
+
+def test_pairing_of_the_exported_modes_with_typed_targets(make_client):
+    """A real export of a coarse car body: a typed target pairs with the exported mode of its
+    type although another lies nearer in frequency, an untyped one with the nearest free
+    mode, a type the exported modes lack is unpaired with the reason; while the export is not
+    built the answer is the export's own (202), and targets that do not parse are a 422
+    there."""
+    from flexride.fem.export import build_export, write_json_atomic
+
+    client = make_client()
+    params = {"element_size_m": 0.6, "cutoff_hz": 40.0, "max_modes": 10}
+    spec = ExportSpec.create("carbody", load_preset("paper-metro").vehicle,
+                             BodyModel(model="flexible", element_size_m=0.6, cutoff_hz=40.0), 10)
+    r = client.get(f"{API}/fe/carbody/pairing", params={**params, "targets": "9:torsion"})
+    assert r.status_code == 202 and r.json()["key"] == spec.key  # being built: as /fe/carbody
+    write_json_atomic(services(client).fe.path_for(spec.key), build_export(spec))
+    export = client.get(f"{API}/fe/carbody", params=params).json()
+    modes = export["modes"]
+    rhombic = [m["classification"] for m in modes].index("rhombic")
+    assert rhombic > 0  # not the lowest: the lowest mode's frequency is the nearest otherwise
+    lowest = modes[0]["frequency_hz"]
+    r = client.get(f"{API}/fe/carbody/pairing", params={
+        **params, "targets": f"{lowest:.3f}:rhombic,3.0,20:third lateral bending"})
+    assert r.status_code == 200, r.text
+    body = r.json()
+    typed, untyped, missing = body["pairs"]
+    assert typed["mode"] == rhombic + 1 and typed["model_type"] == "rhombic"
+    assert typed["error"] == pytest.approx(modes[rhombic]["frequency_hz"] / lowest - 1, abs=1e-3)
+    assert untyped["mode"] == 1 and untyped["model_hz"] == lowest  # the nearest free mode
+    assert missing["mode"] is None and missing["model_hz"] is None
+    assert "no mode of type 'third lateral bending'" in missing["message"]
+    assert body["modes_considered"] == 10 and body["model"]["key"] == spec.key
+    r = client.get(f"{API}/fe/carbody/pairing", params={**params, "targets": "5:twisting"})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["query", "targets"]
+    assert "torsion" in r.json()["detail"][0]["msg"]  # the allowed types are listed

@@ -8,7 +8,7 @@ from fastapi import APIRouter, Path, Query, Response
 
 from flexride.api.deps import ServicesDep, TokenOk
 from flexride.api.params import JobId
-from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport
+from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport, FEPairing
 from flexride.api.services import fe as svc_fe
 from flexride.fem.export import DEFAULT_MAX_MODES, ExportSpec
 from flexride.scenario.bodies import BodyModel
@@ -32,6 +32,18 @@ def _body_query(name: str) -> Any:
             if getattr(m, bound, None) is not None:
                 kw[bound] = getattr(m, bound)
     return Query(**kw)
+
+
+def _preset_spec(svc: Any, kind: str, element_size_m: float, cutoff_hz: float, reduction: Any,
+                 max_modes: int, preset: str) -> ExportSpec:
+    """The export of a body model fitted to ``preset``'s vehicle, once the service's limits
+    admit its build (422 at the query parameter otherwise).
+    """
+    body = BodyModel(model="flexible", reduction=reduction, cutoff_hz=cutoff_hz,
+                     element_size_m=element_size_m)
+    vehicle = svc_fe.preset_vehicle(preset)
+    check_fe_build(kind, vehicle, element_size_m, cutoff_hz, svc.submitter.limits, ("query",))
+    return ExportSpec.create(kind, vehicle, body, max_modes)
 
 
 #: The defaults of a scenario's body model.
@@ -77,12 +89,37 @@ def fe_model(
     fraction of a second. Builds beyond the service's limits (``FLEXRIDE_MAX_FE_DOFS``,
     ``FLEXRIDE_MAX_FE_CUTOFF_HZ``) are refused with 422 naming the parameter.
     """
-    body = BodyModel(model="flexible", reduction=reduction, cutoff_hz=cutoff_hz,
-                     element_size_m=element_size_m)
-    vehicle = svc_fe.preset_vehicle(preset)
-    check_fe_build(kind, vehicle, element_size_m, cutoff_hz, svc.submitter.limits, ("query",))
-    spec = ExportSpec.create(kind, vehicle, body, max_modes)
+    spec = _preset_spec(svc, kind, element_size_m, cutoff_hz, reduction, max_modes, preset)
     return svc_fe.respond(svc.fe, spec, may_start=may_build)
+
+
+@router.get("/fe/{kind}/pairing", response_model=None,
+            responses={**RESPONSES, 200: {"model": FEPairing,
+                                          "description": "The pairing of modes with targets"}},
+            summary="Pairing of a body model's modes with calibration targets")
+def fe_pairing(
+    kind: Kind,
+    svc: ServicesDep,
+    may_build: TokenOk,
+    targets: Annotated[str, Query(min_length=1, max_length=400, description=(
+        "Targets FREQ[:TYPE],… in Hz as for flexride fe calibrate --targets, e.g. "
+        "'5.03:torsion,6.11:rhombic,8.84:first vertical bending'; a typed target pairs only "
+        "with a mode of its type, an untyped one with the nearest free mode"))],
+    element_size_m: Annotated[float, _body_query("element_size_m")] = _DEFAULT.element_size_m,
+    cutoff_hz: Annotated[float, _body_query("cutoff_hz")] = _DEFAULT.cutoff_hz,
+    reduction: Annotated[Reduction, _body_query("reduction")] = _DEFAULT.reduction,  # type: ignore
+    max_modes: MaxModes = DEFAULT_MAX_MODES,
+    preset: Annotated[str, Query(max_length=80, description="Preset whose vehicle (inertia, "
+                                 "suspension geometry) the model is fitted to")] = "paper-metro",
+) -> Response:
+    """How the body model's lowest ``max_modes`` elastic modes (those of ``GET /fe/{kind}``
+    with the same parameters) pair with calibration targets: for each target the paired mode,
+    its frequency error and type, or why none pairs (no mode of the type among them). The
+    answers while the model is not built are those of ``GET /fe/{kind}`` (202, 401, 422,
+    503); targets that do not parse are a 422 at ``query.targets``.
+    """
+    spec = _preset_spec(svc, kind, element_size_m, cutoff_hz, reduction, max_modes, preset)
+    return svc_fe.respond_pairing(svc.fe, spec, targets, may_start=may_build)
 
 
 @router.get("/jobs/{job_id}/fe/{kind}", response_model=None,

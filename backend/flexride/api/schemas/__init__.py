@@ -33,6 +33,8 @@ from flexride.api.schemas.fe import (
     FEExport,
     FEMode,
     FEModelInfo,
+    FEPair,
+    FEPairing,
 )
 from flexride.api.schemas.jobs import (
     JobCreate,
@@ -105,6 +107,8 @@ __all__ = [
     "FEExport",
     "FEMode",
     "FEModelInfo",
+    "FEPair",
+    "FEPairing",
     "FlexRigidRow",
     "HealthOut",
     "JobCreate",

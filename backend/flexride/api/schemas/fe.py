@@ -69,3 +69,28 @@ class FEBuildStatus(BaseModel):
     retry_after_s: int = Field(description="Ask again after this many seconds "
                                "(also the Retry-After header)")
     message: str
+
+
+class FEPair(BaseModel):
+    """One calibration target and the model mode paired with it (``flexride fe calibrate``'s
+    rules: by type, then frequency; an optimal assignment over all targets).
+    """
+
+    target_hz: float = Field(description="Target frequency (Hz)")
+    target_type: str | None = Field(description="Wanted mode type; null: any")
+    label: str = Field(description="The target's name, or empty")
+    mode: int | None = Field(description="Paired elastic mode (1 = lowest); null: unpaired")
+    model_hz: float | None = Field(description="The paired mode's frequency (Hz)")
+    error: float | None = Field(description="Relative frequency error model/target − 1 (-)")
+    model_type: str | None = Field(description="The paired mode's type (the classifier's)")
+    mac: float | None = Field(description="MAC with the target's shape (none here: null)")
+    message: str = Field(description="Why the target is unpaired; empty when paired")
+
+
+class FEPairing(BaseModel):
+    """The pairing of an FE body's lowest modes with calibration targets."""
+
+    pairs: list[FEPair] = Field(description="One per target, in the targets' order")
+    modes_considered: int = Field(description="Lowest elastic modes the pairing chose from "
+                                  "(those of the export: max_modes)")
+    model: FEModelInfo

@@ -23,6 +23,7 @@ A request for an export that is not on file looks up the newest FE job of its co
 
 from __future__ import annotations
 
+import json
 import logging
 import math
 import time
@@ -30,11 +31,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+import numpy as np
 from fastapi.responses import FileResponse, Response
 
 from flexride.api.errors import Conflict, SafeJSONResponse
-from flexride.errors import ScenarioError
+from flexride.errors import ErrorItem, FEModelError, ScenarioError
 from flexride.fem.export import BODY_FIELDS, BODY_LABELS, ExportSpec, export_path
+from flexride.fem.pairing import ModelModes, pair_targets
+from flexride.fem.targets import ModeTarget, parse_targets
 from flexride.scenario.bodies import BodyModel
 from flexride.scenario.vehicle import Vehicle
 from flexride.settings import API_PREFIX
@@ -297,3 +301,37 @@ def respond(exports: FEExports, spec: ExportSpec, may_start: bool = True) -> Res
         "progress": job.progress if job is not None else 0.0,
         "elapsed_s": round(st.elapsed_s, 1), "retry_after_s": st.retry_after_s,
         "message": _building_message(st, what)})
+
+
+def respond_pairing(exports: FEExports, spec: ExportSpec, targets_text: str,
+                    may_start: bool = True) -> Response:
+    """The pairing of ``spec``'s exported modes with the targets ``targets_text`` (the
+    spelling of ``flexride fe calibrate --targets``): 200 once the export is on file, else
+    the export's own answer (202 while it is built, 401, 422, 503: :func:`respond`).
+
+    Raises
+    ------
+    ScenarioError
+        Targets that do not parse (located at ``query.targets``).
+    """
+    targets = parse_query_targets(targets_text)
+    st = exports.state(spec, may_start=may_start)
+    if st.status != "ready" or st.path is None:
+        return respond(exports, spec, may_start=may_start)
+    export = json.loads(Path(st.path).read_text())
+    modes = ModelModes(np.array([m["frequency_hz"] for m in export["modes"]], dtype=float),
+                       [m["classification"] for m in export["modes"]])
+    pairs = pair_targets(targets, modes)
+    return SafeJSONResponse({"pairs": [p.to_dict() for p in pairs],
+                             "modes_considered": len(export["modes"]),
+                             "model": export["model"]},
+                            headers={"Cache-Control": "no-cache"})
+
+
+def parse_query_targets(text: str) -> list[ModeTarget]:
+    """Targets from the ``targets`` query parameter, or :class:`ScenarioError` located there."""
+    try:
+        return parse_targets(text)
+    except FEModelError as exc:
+        raise ScenarioError(f"query: targets: {exc}",
+                            [ErrorItem(("query", "targets"), str(exc))]) from exc
