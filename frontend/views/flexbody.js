@@ -9,9 +9,11 @@
 //   export_mesh: {nodes, quads, beams, modes: [{index, frequency_hz, classification, scale_m, displacements}]}
 //   plain:       {nodes: [[x,y,z]], elements: [[i,j,k,l]], frequencies: [f], modes: [[[dx,dy,dz]]]}
 // The comfort map places the floor-grid points at the positions GET /jobs/{id}/channels gives.
+// Calibration targets ("5.03:torsion,6.11,…") are paired with the model's modes by
+// GET /api/v1/fe/{kind}/pairing (flexride fe calibrate's rules: by type, then frequency).
 
 import { api, cached } from "../api.js";
-import { h, setChildren, notice, fmt, fixed, prettyUnit } from "../components/dom.js";
+import { h, setChildren, notice, fmt, fixed, prettyUnit, dataTable } from "../components/dom.js";
 import { plotCard, baseLayout, loadPlotly } from "../components/plot.js";
 import { simpleSelect } from "../components/channels.js";
 import { replaceQuery } from "../components/nav.js";
@@ -100,7 +102,7 @@ export default async function render(main, ctx) {
   const fileIn = h("input", { id: "mesh-file", type: "file", accept: ".json,application/json", class: "sr-only" });
   const kindSel = simpleSelect("mesh-kind", "Body", [["carbody", "car body"], ["frame", "bogie frame"]], state.kind, (v) => { state.kind = v; saveQuery(); loadFromService(); });
   function saveQuery() {
-    replaceQuery({ kind: state.kind, job: jobSel?.value || "", measure, ...params });
+    replaceQuery({ kind: state.kind, job: jobSel?.value || "", measure, ...params, targets: targetsIn.value.trim() });
   }
 
   // model parameters (the scenario's bodies settings: same names, units and ranges)
@@ -135,6 +137,60 @@ export default async function render(main, ctx) {
       reductionSel.value = params.reduction || (state.mesh ? keep : props.reduction.default || keep);
     }
   }).catch(() => { /* the server checks the values */ });
+  // -- pairing of the modes with calibration targets ------------------------------------------
+  const targetsIn = h("input", { id: "fe-targets", type: "text", value: ctx.query.targets || "", placeholder: "5.03:torsion,6.11:rhombic,8.84:first vertical bending", "aria-describedby": "fe-targets-help fe-targets-err", style: { width: "100%", maxWidth: "40em" } });
+  const targetsErr = h("span", { class: "field-error from-server", id: "fe-targets-err", "aria-live": "polite" });
+  const pairingOut = h("div", { id: "fe-pairing", "aria-live": "polite" });
+  const pairBtn = h("button", { type: "submit", class: "btn btn-small", id: "fe-pair" }, "Pair");
+  const pairForm = h("form", { class: "stack", id: "fe-pairing-form", onsubmit: (e) => { e.preventDefault(); pairModes(); } },
+    h("label", { for: "fe-targets" }, "Calibration targets (Hz[:type], …)", targetsIn, targetsErr),
+    h("p", { class: "help", id: "fe-targets-help" }, "Each target is paired with one of the model's lowest modes: a typed target only with a mode of its type (as the classifier names it), an untyped one with the nearest free mode; as flexride fe calibrate pairs them."),
+    h("div", { class: "actions" }, pairBtn), pairingOut);
+
+  /** The pairing of the service's model (by its parameters) with the targets typed in. */
+  async function pairModes() {
+    targetsErr.textContent = "";
+    targetsIn.removeAttribute("aria-invalid");
+    const targets = targetsIn.value.trim();
+    saveQuery();
+    if (!targets) {
+      setChildren(pairingOut);
+      return;
+    }
+    setChildren(pairingOut, h("p", { class: "help" }, "Pairing…"));
+    try {
+      const r = await api.fePairing(state.kind, { ...params, max_modes: MAX_MODES, targets }, { signal: ctx.signal });
+      if (r.status === 202) {
+        setChildren(pairingOut, h("p", { class: "help" }, "The model is being built; pair again once it is drawn."));
+        return;
+      }
+      showPairing(r.body);
+    } catch (err) {
+      if (ctx.signal.aborted) return;
+      const at = err.items?.find((i) => (i.loc || []).join(".") === "query.targets");
+      if (at) {
+        targetsErr.textContent = at.msg;
+        targetsIn.setAttribute("aria-invalid", "true");
+        setChildren(pairingOut);
+      } else setChildren(pairingOut, notice("error", "No pairing", err.message));
+    }
+  }
+
+  function showPairing(body) {
+    const rows = body.pairs.map((p) => ({ ...p, errorPct: p.error === null ? null : 100 * p.error }));
+    const unpaired = rows.filter((p) => p.mode === null);
+    setChildren(pairingOut,
+      dataTable([
+        { key: "target_hz", label: "Target (Hz)", num: true, format: (v) => fmt(v, 4) },
+        { key: "target_type", label: "Type wanted", format: (v) => v || "any" },
+        { key: "mode", label: "Mode", num: true, format: (v) => (v === null ? "none" : String(v)) },
+        { key: "model_hz", label: "Model (Hz)", num: true, format: (v) => (v === null ? "–" : fmt(v, 4)) },
+        { key: "errorPct", label: "Error (%)", num: true, format: (v) => (v === null ? "–" : fixed(v, 1)) },
+        { key: "model_type", label: "Model mode type", format: (v) => v || "–" },
+      ], rows, { caption: `Targets paired with the lowest ${body.modes_considered} elastic modes` }),
+      ...unpaired.map((p) => notice("warn", `${fmt(p.target_hz, 4)} Hz not paired`, p.message)));
+  }
+
   function showParams(m, fromJob) {
     sizeIn.value = String(m.element_size_m);
     cutoffIn.value = String(m.cutoff_hz);
@@ -347,6 +403,10 @@ export default async function render(main, ctx) {
       modelInfo.textContent = `${src}: ${info.reduction} reduction, cut-off ${fmt(info.cutoff_hz)} Hz, element size ${fmt(info.element_size_m)} m; ${info.n_elastic_modes} elastic modes retained.` +
         (jobId && !jobBody ? ` Job ${jobId.slice(0, 8)} models the ${KIND_LABEL[kind]} as rigid.` : "");
       await useMesh(m, jobBody ? `Job ${jobId.slice(0, 8)} (flexible ${KIND_LABEL[kind]})` : `From the service (${KIND_LABEL[kind]})`);
+      // the pairing is of models by their parameters (a job's body is fitted to its own vehicle)
+      for (const el of [targetsIn, pairBtn]) el.disabled = !!jobBody;
+      if (jobBody) setChildren(pairingOut, h("p", { class: "help" }, "Pairing is for models by their parameters: choose no job."));
+      else if (targetsIn.value.trim()) pairModes();
     } catch (err) {
       if (seq !== loadSeq || ctx.signal.aborted) return;
       card.error(err, "The FE model could not be loaded");
@@ -460,6 +520,8 @@ export default async function render(main, ctx) {
       h("h2", { id: "fe-model-title", class: "h3", style: { marginTop: 0 } }, "Model"), modelForm,
       h("h2", { id: "modes-title", class: "h3" }, "Mode shapes"), modeList),
     h("div", {}, meshMsg, card.el)),
+    h("section", { class: "card stack", "aria-labelledby": "pairing-title" },
+      h("h2", { id: "pairing-title", class: "h3", style: { marginTop: 0 } }, "Modes paired with calibration targets"), pairForm),
     h("h2", {}, "Comfort over the floor"), mapMsg, mapCard.el);
 
   // jobs: the flexible body of the chosen job (when it has one) and its comfort map

@@ -482,6 +482,40 @@ def test_flexible_body_view_builds_and_draws_the_car_body(page, server, shot, wa
     shot(page, "15-flexible-body")
 
 
+def test_flexible_body_pairs_its_modes_with_calibration_targets(page, server, shot, wait_plot,
+                                                                coarse):
+    """Targets in the address are paired once the model is drawn, as GET /fe/carbody/pairing
+    pairs them (the table row by row; an unpaired target's reason beside it); a type that
+    does not exist is refused at the field with the allowed names."""
+    from urllib.parse import quote
+
+    page.console_log.allow(r"status of 422")  # the service refuses the unknown type
+    targets = "5.0,6.2,9:rhombic,20:third lateral bending"
+    goto(page, f"/flex?element_size_m={coarse}&targets={quote(targets)}")
+    wait_plot(page, "#plot-mesh", timeout=180_000)
+    rows = page.locator("#fe-pairing table tbody tr")
+    rows.first.wait_for(timeout=30_000)
+    answer = server.api(f"/fe/carbody/pairing?element_size_m={coarse}&max_modes=12"
+                        f"&targets={quote(targets)}")
+    assert rows.count() == len(answer["pairs"]) == 4
+    for k, pair in enumerate(answer["pairs"]):
+        cells = rows.nth(k).locator("th, td").all_inner_texts()
+        assert cells[2] == ("none" if pair["mode"] is None else str(pair["mode"]))
+        if pair["model_hz"] is not None:
+            assert f"{pair['model_hz']:.4g}" in cells[3]
+    missing = answer["pairs"][3]
+    assert missing["mode"] is None  # no lateral bending of third order among 12 modes
+    assert missing["message"] in page.locator("#fe-pairing").inner_text()
+    page.locator("#fe-pairing").scroll_into_view_if_needed()
+    shot(page, "15b-flexible-body-pairing", full_page=False)
+    page.fill("#fe-targets", "5:twisting")
+    page.click("#fe-pair")
+    page.locator("#fe-targets-err").wait_for(state="visible")
+    assert "torsion" in page.locator("#fe-targets-err").inner_text()
+    assert page.get_attribute("#fe-targets", "aria-invalid") == "true"
+    assert "twisting" in page.url  # the targets are kept in the address
+
+
 def test_flexible_body_of_a_job_is_that_jobs_model(page, server, wait_plot):
     job = server.api("/jobs", {"preset": "paper-random-straight-80", "reuse": False, "overrides": {
         "duration_s": 0.5, "distance_m": None, "bodies.carbody.model": "flexible",
