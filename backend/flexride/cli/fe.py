@@ -1,8 +1,9 @@
 """``flexride fe …``: finite-element car body and bogie frame from the command line.
 
 Commands: ``modes`` (modal table and mass properties of a default model), ``reduce`` (reduction
-report), ``calibrate`` (model updating against typed target frequencies or measured modes) and
-``export`` (mesh and mode shapes as JSON). Every command takes ``--json``. User errors end with
+report), ``calibrate`` (model updating against typed target frequencies or measured modes),
+``convergence`` (natural frequencies against element size, with the observed order and GCI)
+and ``export`` (mesh and mode shapes as JSON). Every command takes ``--json``. User errors end with
 one line on standard error and exit code 2.
 """
 
@@ -16,6 +17,7 @@ from typing import TYPE_CHECKING, Annotated, NoReturn
 import numpy as np
 import typer
 from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from flexride.errors import FlexrideError
 
@@ -285,6 +287,49 @@ def calibrate_cmd(
     if res.unpaired:
         _err.print(f"warning: {len(res.unpaired)} target(s) NOT PAIRED with a model mode "
                    "(reasons above)", markup=False)
+
+
+@fe_app.command("convergence")
+def convergence_cmd(
+    kind: KindArg,
+    sizes: Annotated[str, typer.Option(
+        "--sizes", help="Element sizes in m, comma-separated, at least three (default: car "
+        "body 0.5,0.4,0.3,0.2; frame 0.2,0.1,0.05).", show_default=False)] = "",
+    n_modes: Annotated[int, typer.Option("--n-modes", min=1, max=60,
+                                         help="Elastic modes of the finest mesh followed.")] = 8,
+    as_json: JsonOpt = False,
+    preset: PresetOpt = "paper-metro",
+) -> None:
+    """Natural frequencies against element size: each mode of the finest mesh followed to the
+    coarser ones, with its observed order, extrapolated frequency and GCI (three finest).
+    """
+    from flexride.fem.mesh_study import frequency_convergence
+
+    body = _kind(kind)
+    default = "0.5,0.4,0.3,0.2" if body == "carbody" else "0.2,0.1,0.05"
+    try:
+        values = [float(v) for v in (sizes or default).split(",") if v.strip()]
+    except ValueError:
+        _fail(f"--sizes must be numbers in m separated by commas, got {sizes!r}")
+    try:
+        with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                      TextColumn("{task.fields[msg]}"), TimeElapsedColumn(), console=_err,
+                      transient=True, disable=as_json) as bar:
+            task = bar.add_task(f"{kind} meshes", total=len(set(values)), msg="")
+
+            def progress(done: int, total: int, size: float) -> None:
+                bar.update(task, completed=done, msg=f"{size:g} m done")
+
+            res = frequency_convergence(body, _vehicle(preset), values, n_modes, progress)
+    except FlexrideError as exc:
+        _fail(str(exc))
+    if as_json:
+        _print_json(res.to_dict())
+        return
+    dofs = ", ".join(f"{m.element_size:g} m: {m.n_dof} DOFs {m.seconds:.1f} s"
+                     for m in res.meshes)
+    _out.print(f"{kind} natural frequencies against element size ({dofs})", markup=False)
+    _out.print(res.table(), markup=False)
 
 
 @fe_app.command("export")
