@@ -218,12 +218,16 @@ def _follow(meshes: Sequence[MeshModes]) -> tuple[FollowedMode, ...]:
     per_mesh = [_assign(finest, m) for m in meshes]  # per mesh: (mode index or None, renamed)
     out = []
     for j in range(n):
-        freqs = tuple(None if a[j][0] is None else m.frequencies_hz[a[j][0]]
-                      for m, a in zip(meshes, per_mesh, strict=True))
+        freqs = tuple(_frequency(m, a[j][0]) for m, a in zip(meshes, per_mesh, strict=True))
         renamed = tuple(bool(a[j][1]) for a in per_mesh)
         out.append(FollowedMode(j + 1, finest.types[j], freqs, renamed,
                                 _estimate([m.element_size for m in meshes], freqs)))
     return tuple(out)
+
+
+def _frequency(mesh: MeshModes, index: int | None) -> float | None:
+    """Frequency (Hz) of mode ``index`` of ``mesh``, None for no mode."""
+    return None if index is None else mesh.frequencies_hz[index]
 
 
 def _assign(finest: MeshModes, other: MeshModes) -> list[tuple[int | None, bool]]:
