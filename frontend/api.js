@@ -158,8 +158,7 @@ export const api = {
   // retryAfter} while the server builds the model (see views/flexbody.js).
   feModel: (kind, params, o) =>
     request(`/fe/${encodeURIComponent(kind)}`, { params, withStatus: true, timeout: 30000, ...o }),
-  fePairing: (kind, params, o) =>
-    request(`/fe/${encodeURIComponent(kind)}/pairing`, { params, withStatus: true, timeout: 30000, ...o }),
+  fePairing: (params, o) => request("/fe/carbody/pairing", { params, withStatus: true, timeout: 30000, ...o }),
   jobFeModel: (id, kind, params, o) =>
     request(`/jobs/${encodeURIComponent(id)}/fe/${encodeURIComponent(kind)}`, { params, withStatus: true, timeout: 30000, ...o }),
 

@@ -10,7 +10,7 @@
 //   plain:       {nodes: [[x,y,z]], elements: [[i,j,k,l]], frequencies: [f], modes: [[[dx,dy,dz]]]}
 // The comfort map places the floor-grid points at the positions GET /jobs/{id}/channels gives.
 // Calibration targets ("5.03:torsion,6.11,…") are paired with the model's modes by
-// GET /api/v1/fe/{kind}/pairing (flexride fe calibrate's rules: by type, then frequency).
+// GET /api/v1/fe/carbody/pairing (flexride fe calibrate's rules: by type, then frequency).
 
 import { api, cached } from "../api.js";
 import { h, setChildren, notice, fmt, fixed, prettyUnit, dataTable } from "../components/dom.js";
@@ -83,7 +83,7 @@ export function normaliseMesh(m) {
 export default async function render(main, ctx) {
   loadPlotly().catch(() => {}); // in parallel with the data
   ctx.title("Flexible body");
-  const state = { kind: ctx.query.kind === "frame" ? "frame" : "carbody", mode: 0, scale: 0, animate: false, mesh: null, wire: true };
+  const state = { kind: ctx.query.kind === "frame" ? "frame" : "carbody", mode: 0, scale: 0, animate: false, mesh: null, wire: true, gci: new Map() };
   // model parameters from the address (as the scenario's bodies settings); the server's defaults otherwise
   const params = Object.fromEntries(MODEL_PARAMS.filter((k) => ctx.query[k]).map((k) => [k, ctx.query[k]]));
   let animLoop = null;
@@ -159,7 +159,7 @@ export default async function render(main, ctx) {
     }
     setChildren(pairingOut, h("p", { class: "help" }, "Pairing…"));
     try {
-      const r = await api.fePairing(state.kind, { ...params, max_modes: MAX_MODES, targets }, { signal: ctx.signal });
+      const r = await api.fePairing({ ...params, max_modes: MAX_MODES, targets }, { signal: ctx.signal });
       if (r.status === 202) {
         setChildren(pairingOut, h("p", { class: "help" }, "The model is being built; pair again once it is drawn."));
         return;
@@ -330,7 +330,13 @@ export default async function render(main, ctx) {
         await drawMesh();
         animate();
       },
-    }, `${md.index}. ${fmt(md.frequency, 4)} Hz`, md.label ? h("span", { class: "muted small" }, ` ${md.label}`) : null)));
+    }, `${md.index}. ${fmt(md.frequency, 4)} Hz`, gciNote(md.index), md.label ? h("span", { class: "muted small" }, ` ${md.label}`) : null)));
+  }
+
+  /** "±x %": the mode's expected discretisation error (the build's GCI), if the service gave one. */
+  function gciNote(index) {
+    const g = state.gci.get(index);
+    return g === undefined || g === null ? null : h("span", { class: "small gci", title: "Expected discretisation error of the frequency (grid convergence index against a coarser companion mesh)" }, ` ±${fixed(100 * g, g < 0.01 ? 2 : 1)} %`);
   }
 
   async function useMesh(raw, source) {
@@ -400,12 +406,16 @@ export default async function render(main, ctx) {
       const info = m.model || {};
       showParams(info, !!jobBody);
       const src = jobBody ? `The flexible ${label}` : `The ${KIND_LABEL[kind]} model`;
+      const disc = info.discretisation;
+      state.gci = new Map((disc?.modes || []).map((d) => [d.index, d.gci]));
       modelInfo.textContent = `${src}: ${info.reduction} reduction, cut-off ${fmt(info.cutoff_hz)} Hz, element size ${fmt(info.element_size_m)} m; ${info.n_elastic_modes} elastic modes retained.` +
+        (disc ? ` ± per mode: its frequency's expected discretisation error (GCI against a ${fmt(disc.companion_element_size_m)} m companion mesh, order ${fmt(disc.assumed_order)} assumed).` : "") +
         (jobId && !jobBody ? ` Job ${jobId.slice(0, 8)} models the ${KIND_LABEL[kind]} as rigid.` : "");
       await useMesh(m, jobBody ? `Job ${jobId.slice(0, 8)} (flexible ${KIND_LABEL[kind]})` : `From the service (${KIND_LABEL[kind]})`);
       // the pairing is of models by their parameters (a job's body is fitted to its own vehicle)
-      for (const el of [targetsIn, pairBtn]) el.disabled = !!jobBody;
-      if (jobBody) setChildren(pairingOut, h("p", { class: "help" }, "Pairing is for models by their parameters: choose no job."));
+      const pairable = !jobBody && kind === "carbody";
+      for (const el of [targetsIn, pairBtn]) el.disabled = !pairable;
+      if (!pairable) setChildren(pairingOut, h("p", { class: "help" }, "Pairing is for car-body models by their parameters (the classifier's mode types are the car body's): choose the car body and no job."));
       else if (targetsIn.value.trim()) pairModes();
     } catch (err) {
       if (seq !== loadSeq || ctx.signal.aborted) return;
@@ -423,6 +433,7 @@ export default async function render(main, ctx) {
     loadSeq += 1; // a file replaces whatever the service is still building
     for (const el of [sizeIn, cutoffIn, reductionSel, applyBtn]) el.disabled = false;
     modelInfo.textContent = `Showing the file ${f.name}; “Build / load” shows the service's model again.`;
+    state.gci = new Map();
     try {
       await useMesh(JSON.parse(await f.text()), f.name);
     } catch (err) {

@@ -293,6 +293,8 @@ def test_the_job_list_shows_simulations_unless_asked_for_other_kinds(client):
     ("/fe/carbody", {"cutoff_hz": 150}, ["query", "cutoff_hz"], "FLEXRIDE_MAX_FE"),
     (f"/jobs/{'0' * 32}/fe/wheelset", {}, ["path", "kind"], "'carbody' or 'frame'"),
     ("/jobs/0123/fe/carbody", {}, ["path", "job_id"], "32 hexadecimal digits"),
+    ("/fe/frame/pairing", {"targets": "5"}, ["path", "kind"], "'carbody'"),
+    ("/fe/carbody/pairing", {}, ["query", "targets"], "Field required"),
 ])
 def test_bad_kind_or_parameter_is_a_422_naming_field_and_range(make_client, path, params, loc,
                                                                words):

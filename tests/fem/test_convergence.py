@@ -94,3 +94,19 @@ def test_shell_plate_converges_at_second_order_to_navier():
     finest = est.values[0]
     assert abs(est.extrapolated / exact - 1) < 0.1 * abs(finest / exact - 1), est
     assert abs(exact / finest - 1) <= est.gci_fine, est
+
+
+def test_two_meshes_at_the_right_order_extrapolate_exactly():
+    """f₀ + C·h² on two meshes with order 2 assumed gives f₀; the GCI is Roache's two-mesh
+    band, 3 |ε|/(r² − 1) relative to the fine value; a wrong assumed order is not exact."""
+    from flexride.fem.convergence import two_mesh_estimate
+
+    f0, c = 6.0, 4.0
+    est = two_mesh_estimate([0.3, 0.2], [f0 + c * 0.09, f0 + c * 0.04], 2.0)
+    assert est.extrapolated == pytest.approx(f0, rel=1e-12) and est.order_assumed
+    eps = abs(c * (0.09 - 0.04) / (f0 + c * 0.04))
+    assert est.gci_fine == pytest.approx(3.0 * eps / (1.5**2 - 1), rel=1e-12)
+    assert abs(two_mesh_estimate([0.3, 0.2], [f0 + c * 0.09, f0 + c * 0.04], 1.0)
+               .extrapolated - f0) > 0.01
+    with pytest.raises(FEModelError, match="order"):
+        two_mesh_estimate([0.3, 0.2], [1.0, 1.1], 0.0)

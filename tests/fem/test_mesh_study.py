@@ -62,3 +62,19 @@ def test_the_command_follows_the_frames_modes(cache_dir):
     assert res.exit_code == 2 and "three distinct" in res.output
     res = runner.invoke(fe_app, ["convergence", "frame", "--sizes", "0.2,x,0.1"])
     assert res.exit_code == 2 and "--sizes must be numbers" in res.output
+
+
+def test_a_builds_own_estimate_is_the_two_mesh_band_against_its_companion():
+    """The frame's 0.1 m beams against a 0.15 m companion: each mode's companion frequency is
+    that mesh's own (followed), and its GCI Roache's two-mesh band at order 2."""
+    from flexride.fem.mesh_study import build_estimate, mesh_modes
+
+    vehicle = load_preset("paper-metro").vehicle
+    est = build_estimate("frame", vehicle, 0.1, 4)
+    assert est["companion_element_size_m"] == pytest.approx(0.15)
+    companion = mesh_modes("frame", vehicle, 0.15, 8)
+    fine = mesh_modes("frame", vehicle, 0.1, 4)
+    for mode, f in zip(est["modes"], fine.frequencies_hz, strict=True):
+        assert mode["frequency_hz"] == f and mode["companion_hz"] in companion.frequencies_hz
+        band = 3.0 * abs(mode["companion_hz"] / f - 1) / (1.5**2 - 1)
+        assert mode["gci"] == pytest.approx(band, rel=1e-12)

@@ -475,6 +475,11 @@ def test_flexible_body_view_builds_and_draws_the_car_body(page, server, shot, wa
     assert f"{f1:.3g}" in modes.first.inner_text() and "Hz" in modes.first.inner_text()
     info = page.locator("#fe-model-info").inner_text()
     assert "modal reduction" in info and f"element size {coarse} m" in info
+    # each mode with its expected discretisation error, from the build's coarser companion
+    disc = exported["model"]["discretisation"]
+    assert f"against a {disc['companion_element_size_m']:g} m companion mesh" in info
+    g1 = disc["modes"][0]["gci"]
+    assert f"±{100 * g1:.1f} %" in modes.first.inner_text()
     assert page.locator("#fe-element-size").input_value() == str(coarse)
     assert not building.is_visible()
     modes.nth(1).click()

@@ -16,6 +16,9 @@ Eng. 130 (2008) 078001, which holds for any discretisation whose error behaves a
 
 Oscillatory convergence (s < 0: the differences change sign) is flagged: the order and the
 extrapolation then do not describe the error, only the spread of the values bounds it.
+
+With two meshes only, the order is the discretisation's theoretical one and the safety factor
+3 (Roache 1994): :func:`two_mesh_estimate`.
 """
 
 from __future__ import annotations
@@ -28,6 +31,9 @@ from flexride.errors import FEModelError
 
 #: Safety factor of the GCI with three meshes (Roache; Celik et al. 2008).
 SAFETY_FACTOR = 1.25
+#: Safety factor of the GCI with two meshes and an assumed order (Roache, "Perspective: a
+#: method for uniform reporting of grid refinement studies", J. Fluids Eng. 116 (1994) 405).
+TWO_MESH_SAFETY_FACTOR = 3.0
 #: Iterations and tolerance of the fixed-point solution for the order.
 _MAX_ITERATIONS = 200
 _ORDER_TOL = 1.0e-10
@@ -40,11 +46,12 @@ class ConvergenceEstimate:
     Attributes
     ----------
     sizes : tuple of float
-        Element sizes h₁ < h₂ < h₃ (m), fine to coarse.
+        Element sizes h₁ < h₂ (< h₃) (m), fine to coarse.
     values : tuple of float
         The quantity on them (any unit).
     order : float
-        Observed order of convergence p (-); NaN when the two finer values are equal.
+        Observed order of convergence p (-), or the assumed one (``order_assumed``); NaN when
+        the two finer values are equal.
     extrapolated : float
         Richardson-extrapolated value (the quantity's unit); the finest value when the order
         is undefined.
@@ -55,21 +62,29 @@ class ConvergenceEstimate:
         Relative difference of the finest value from the extrapolated one (-).
     oscillatory : bool
         The differences between successive meshes change sign.
+    order_assumed : bool
+        Two meshes only: the order is the discretisation's theoretical one, not observed, and
+        the GCI's safety factor :data:`TWO_MESH_SAFETY_FACTOR`.
     """
 
-    sizes: tuple[float, float, float]
-    values: tuple[float, float, float]
+    sizes: tuple[float, ...]
+    values: tuple[float, ...]
     order: float
     extrapolated: float
     gci_fine: float
     error_fine: float
     oscillatory: bool
+    order_assumed: bool = False
 
     def to_dict(self) -> dict:
-        """JSON-able dict."""
-        return {"sizes_m": list(self.sizes), "values": list(self.values), "order": self.order,
-                "extrapolated": self.extrapolated, "gci_fine": self.gci_fine,
-                "error_fine": self.error_fine, "oscillatory": self.oscillatory}
+        """JSON-able dict (NaN and infinity as None)."""
+        def num(v: float) -> float | None:
+            return v if math.isfinite(v) else None
+
+        return {"sizes_m": list(self.sizes), "values": list(self.values),
+                "order": num(self.order), "order_assumed": self.order_assumed,
+                "extrapolated": num(self.extrapolated), "gci_fine": num(self.gci_fine),
+                "error_fine": num(self.error_fine), "oscillatory": self.oscillatory}
 
 
 def three_mesh_estimate(sizes: Sequence[float], values: Sequence[float]
@@ -105,6 +120,34 @@ def three_mesh_estimate(sizes: Sequence[float], values: Sequence[float]
     gci = SAFETY_FACTOR * abs(e21 / phi[0]) / (r21**p - 1.0) if phi[0] else math.inf
     error = abs((extrapolated - phi[0]) / extrapolated) if extrapolated else math.inf
     return ConvergenceEstimate(h, phi, p, extrapolated, gci, error, s < 0.0)
+
+
+def two_mesh_estimate(sizes: Sequence[float], values: Sequence[float], order: float
+                      ) -> ConvergenceEstimate:
+    """Richardson extrapolation and GCI from two meshes with an assumed ``order`` (-): the
+    estimate of one build and a cheap coarser companion, where a third mesh would cost more
+    than the build (safety factor :data:`TWO_MESH_SAFETY_FACTOR`).
+
+    Raises
+    ------
+    FEModelError
+        Not two distinct positive sizes and two finite values, or an order that is not
+        positive.
+    """
+    if len(sizes) != 2 or len(values) != 2:
+        raise FEModelError("a two-mesh estimate needs two element sizes and two values")
+    if not (math.isfinite(order) and order > 0.0):
+        raise FEModelError(f"the assumed order must be positive, got {order}")
+    (h1, f1), (h2, f2) = sorted(zip(map(float, sizes), map(float, values), strict=True))
+    if not all(math.isfinite(v) for v in (h1, h2, f1, f2)) or h1 <= 0.0 or h1 == h2:
+        raise FEModelError(f"two distinct positive element sizes and finite values needed, "
+                           f"got {list(sizes)} and {list(values)}")
+    factor = (h2 / h1) ** order - 1.0
+    extrapolated = f1 + (f1 - f2) / factor
+    gci = TWO_MESH_SAFETY_FACTOR * abs((f1 - f2) / f1) / factor if f1 else math.inf
+    error = abs((extrapolated - f1) / extrapolated) if extrapolated else math.inf
+    return ConvergenceEstimate((h1, h2), (f1, f2), float(order), extrapolated, gci, error,
+                               False, order_assumed=True)
 
 
 def observed_order(e21: float, e32: float, r21: float, r32: float) -> float:

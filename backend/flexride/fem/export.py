@@ -36,7 +36,7 @@ from flexride.scenario.vehicle import Vehicle
 #: Body kinds with an FE model, and the field of ``scenario.bodies`` that configures each.
 BODY_FIELDS: dict[str, str] = {"carbody": "carbody", "frame": "frames"}
 #: Bump when the content of an export file changes.
-EXPORT_FORMAT = 1
+EXPORT_FORMAT = 2  # 2: the model block's discretisation estimate
 #: Default number of exported modes (as ``flexride fe export --n-modes``).
 DEFAULT_MAX_MODES = 12
 #: What a body kind is called in messages.
@@ -239,6 +239,7 @@ def build_export(spec: ExportSpec, progress: Progress = _no_progress) -> dict[st
         If the FE model cannot be built with these parameters.
     """
     from flexride.fem.flexible import build_flexible_body
+    from flexride.fem.mesh_study import build_estimate
 
     vehicle = Vehicle.model_validate(spec.vehicle)
     progress(0.05, f"building the FE model of the {BODY_LABELS[spec.kind]} (mesh, eigenmodes, "
@@ -249,6 +250,7 @@ def build_export(spec: ExportSpec, progress: Progress = _no_progress) -> dict[st
     progress(0.9, f"exporting the mesh and {spec.max_modes} mode shapes")
     data = fb.export(max_modes=spec.max_modes)
     freqs = [float(f) for f in fb.body.elastic_frequencies]
+    progress(0.95, "estimating the discretisation error from a coarser companion mesh")
     data["model"] = {
         **spec.parameters(),
         "key": spec.key,
@@ -257,8 +259,20 @@ def build_export(spec: ExportSpec, progress: Progress = _no_progress) -> dict[st
         "frequencies_hz": freqs,
         "from_cache": bool(fb.from_cache),
         "build_seconds": float(fb.build_seconds),
+        "discretisation": build_estimate(spec.kind, vehicle, model_element_size(spec),
+                                         max(1, min(spec.max_modes, DEFAULT_MAX_MODES))),
     }
     return data
+
+
+def model_element_size(spec: ExportSpec) -> float:
+    """The element size (m) the FE model of ``spec`` is built with: the car body's shells,
+    or the frame's beams (half the car body's size, at most 0.1 m).
+    """
+    from flexride.fem.vehicle_models import frame_element_size
+
+    size = spec.element_size_m
+    return size if spec.kind == "carbody" else frame_element_size(size)
 
 
 def write_export(spec: ExportSpec, dest: str | os.PathLike[str],

@@ -19,12 +19,18 @@ from scipy.optimize import linear_sum_assignment
 
 from flexride.errors import FEModelError
 from flexride.fem.classify import classify_mode, classify_plane_frame_mode
-from flexride.fem.convergence import ConvergenceEstimate, three_mesh_estimate
+from flexride.fem.convergence import ConvergenceEstimate, three_mesh_estimate, two_mesh_estimate
 from flexride.fem.eigen import free_free_modes
 from flexride.fem.frame import build_frame
 from flexride.fem.model import FEModel
 from flexride.fem.rigid import rigid_body_vectors
 from flexride.fem.vehicle_models import build_fe_model, frame_params_for, frame_target
+
+#: Order assumed for a build's own two-mesh estimate: the bilinear shells' (and the lower of
+#: the beams' orders), observed on the plate of tests/fem/test_convergence.py.
+ELEMENT_ORDER = 2.0
+#: Element size of a build's coarser companion, relative to the build's.
+COMPANION_RATIO = 1.5
 
 #: Extra cost of following a mode to one of another classification (in |ln f ratio| units:
 #: a name change weighs like a factor e² in frequency, so it happens only when no mode of the
@@ -248,8 +254,51 @@ def _assign(finest: MeshModes, other: MeshModes) -> list[tuple[int | None, bool]
 
 def _estimate(sizes: Sequence[float], freqs: Sequence[float | None]
               ) -> ConvergenceEstimate | None:
-    """Three-mesh estimate from the three finest meshes (the last three), if all have it."""
+    """Three-mesh estimate from the three finest meshes (the last three), or with two meshes
+    the two-mesh one at :data:`ELEMENT_ORDER`; None if the mode is missing on one of them.
+    """
     last = list(zip(sizes, freqs, strict=True))[-3:]
     if any(f is None for _, f in last):
         return None
-    return three_mesh_estimate([s for s, _ in last], [float(f) for _, f in last if f is not None])
+    hs, fs = [s for s, _ in last], [float(f) for _, f in last if f is not None]
+    return three_mesh_estimate(hs, fs) if len(last) == 3 else two_mesh_estimate(
+        hs, fs, ELEMENT_ORDER)
+
+
+def build_estimate(kind: str, vehicle, size: float, n_modes: int) -> dict:
+    """A build's own discretisation estimate: its lowest ``n_modes`` elastic modes and those
+    of a companion mesh :data:`COMPANION_RATIO` times coarser (capped by the builder's range),
+    followed as in the study, and per mode the two-mesh GCI at :data:`ELEMENT_ORDER`.
+
+    Parameters
+    ----------
+    kind : {"carbody", "frame"}
+        The body.
+    vehicle : flexride.scenario.vehicle.Vehicle
+        The vehicle the body is mass-matched to.
+    size : float
+        The build's element size (m): the car body's shells or the frame's beams.
+    n_modes : int
+        Modes to estimate.
+
+    Returns
+    -------
+    dict
+        ``element_size_m``, ``companion_element_size_m``, ``assumed_order`` and ``modes``:
+        per mode ``index``, ``type``, ``frequency_hz``, ``companion_hz`` (None if not found),
+        ``gci`` (-, None without a companion mode) and ``renamed``.
+    """
+    cap = 0.5 if kind == "frame" else 1.0
+    companion = min(size * COMPANION_RATIO, cap)
+    if companion <= size:
+        raise FEModelError(f"no coarser companion for element size {size} m (largest {cap} m)")
+    meshes = [mesh_modes(kind, vehicle, companion, 2 * n_modes),
+              mesh_modes(kind, vehicle, size, n_modes)]
+    modes = []
+    for f in _follow(meshes):
+        e = f.estimate
+        modes.append({"index": f.index, "type": f.type, "frequency_hz": f.frequencies_hz[1],
+                      "companion_hz": f.frequencies_hz[0], "renamed": f.renamed[0],
+                      "gci": None if e is None else e.to_dict()["gci_fine"]})
+    return {"element_size_m": size, "companion_element_size_m": companion,
+            "assumed_order": ELEMENT_ORDER, "modes": modes}

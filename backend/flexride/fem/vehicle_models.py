@@ -72,6 +72,13 @@ def frame_params_for(vehicle, base: FrameParams | None = None) -> FrameParams:
     )
 
 
+def frame_element_size(element_size: float) -> float:
+    """The frame's beam element size (m) for a body model's ``element_size`` (m, the car
+    body's shells): half of it, at most 0.1 m.
+    """
+    return min(element_size / 2.0, 0.1)
+
+
 def build_fe_model(
     kind: Kind, vehicle, element_size: float = 0.2, params=None
 ) -> tuple[FEModel, InertiaTarget]:
@@ -88,6 +95,7 @@ def build_fe_model(
         return build_carbody(carbody_params_for(vehicle, params), target, element_size), target
     if kind == "frame":
         target = frame_target(vehicle)
-        frame = build_frame(frame_params_for(vehicle, params), target, min(element_size / 2.0, 0.1))
+        frame = build_frame(frame_params_for(vehicle, params), target,
+                            frame_element_size(element_size))
         return frame, target
     raise FEModelError(f"unknown body kind {kind!r}: use 'carbody' or 'frame'")

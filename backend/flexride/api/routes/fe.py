@@ -96,9 +96,10 @@ def fe_model(
 @router.get("/fe/{kind}/pairing", response_model=None,
             responses={**RESPONSES, 200: {"model": FEPairing,
                                           "description": "The pairing of modes with targets"}},
-            summary="Pairing of a body model's modes with calibration targets")
+            summary="Pairing of the car body's modes with calibration targets")
 def fe_pairing(
-    kind: Kind,
+    kind: Annotated[Literal["carbody"], Path(description="carbody (the mode types are the car "
+                                             "body classifier's)")],
     svc: ServicesDep,
     may_build: TokenOk,
     targets: Annotated[str, Query(min_length=1, max_length=400, description=(
@@ -112,11 +113,11 @@ def fe_pairing(
     preset: Annotated[str, Query(max_length=80, description="Preset whose vehicle (inertia, "
                                  "suspension geometry) the model is fitted to")] = "paper-metro",
 ) -> Response:
-    """How the body model's lowest ``max_modes`` elastic modes (those of ``GET /fe/{kind}``
-    with the same parameters) pair with calibration targets: for each target the paired mode,
-    its frequency error and type, or why none pairs (no mode of the type among them). The
-    answers while the model is not built are those of ``GET /fe/{kind}`` (202, 401, 422,
-    503); targets that do not parse are a 422 at ``query.targets``.
+    """How the car body model's lowest ``max_modes`` elastic modes (those of ``GET
+    /fe/carbody`` with the same parameters) pair with calibration targets: for each target
+    the paired mode, its frequency error and type, or why none pairs (no mode of the type
+    among them). The answers while the model is not built are those of ``GET /fe/{kind}``
+    (202, 401, 422, 503); targets that do not parse are a 422 at ``query.targets``.
     """
     spec = _preset_spec(svc, kind, element_size_m, cutoff_hz, reduction, max_modes, preset)
     return svc_fe.respond_pairing(svc.fe, spec, targets, may_start=may_build)

@@ -24,6 +24,32 @@ class FEMode(BaseModel):
         description="Per node [dx, dy, dz], scaled to a largest translation of 1")
 
 
+class FEModeEstimate(BaseModel):
+    """One mode's discretisation estimate (two meshes, assumed order)."""
+
+    index: int = Field(description="Mode number (1 = lowest elastic mode)")
+    type: str = Field(description="Its classification")
+    frequency_hz: float | None = Field(description="Frequency on the built mesh (Hz)")
+    companion_hz: float | None = Field(description="The same mode on the coarser companion "
+                                       "mesh (Hz); null where none was found")
+    renamed: bool = Field(description="The companion's mode has another classification")
+    gci: float | None = Field(description="Grid convergence index (-, relative): the converged "
+                              "frequency is expected within ± gci of the built one")
+
+
+class FEDiscretisation(BaseModel):
+    """How far the built model's frequencies are expected to be from converged: the build and
+    a coarser companion mesh, Richardson's extrapolation at the elements' order, Roache's GCI
+    with safety factor 3 (docs/fem.md, "Mesh convergence").
+    """
+
+    element_size_m: float = Field(description="The model's element size (m): the car body's "
+                                  "shells or the frame's beams")
+    companion_element_size_m: float = Field(description="The companion's element size (m)")
+    assumed_order: float = Field(description="Order of convergence assumed (-)")
+    modes: list[FEModeEstimate]
+
+
 class FEModelInfo(BaseModel):
     """What an FE export was built from."""
 
@@ -38,6 +64,8 @@ class FEModelInfo(BaseModel):
     frequencies_hz: list[float] = Field(description="Frequencies of all retained modes (Hz)")
     from_cache: bool = Field(description="The reduced body came from the FE cache")
     build_seconds: float = Field(description="Time to build or load the body (s)")
+    discretisation: FEDiscretisation | None = Field(
+        None, description="The frequencies' expected discretisation error")
 
 
 class FEExport(BaseModel):

@@ -37,6 +37,7 @@ from fastapi.responses import FileResponse, Response
 from flexride.api.errors import Conflict, SafeJSONResponse
 from flexride.errors import ErrorItem, FEModelError, ScenarioError
 from flexride.fem.export import BODY_FIELDS, BODY_LABELS, ExportSpec, export_path
+from flexride.fem.mode_types import UNCLASSIFIED
 from flexride.fem.pairing import ModelModes, pair_targets
 from flexride.fem.targets import ModeTarget, parse_targets
 from flexride.scenario.bodies import BodyModel
@@ -320,7 +321,7 @@ def respond_pairing(exports: FEExports, spec: ExportSpec, targets_text: str,
         return respond(exports, spec, may_start=may_start)
     export = json.loads(Path(st.path).read_text())
     modes = ModelModes(np.array([m["frequency_hz"] for m in export["modes"]], dtype=float),
-                       [m["classification"] for m in export["modes"]])
+                       [m["classification"] or UNCLASSIFIED for m in export["modes"]])
     pairs = pair_targets(targets, modes)
     return SafeJSONResponse({"pairs": [p.to_dict() for p in pairs],
                              "modes_considered": len(export["modes"]),
