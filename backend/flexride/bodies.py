@@ -123,10 +123,24 @@ class ModalBody:
         return np.concatenate([np.zeros(6), 2.0 * self.elastic_damping * w])
 
     def with_modes(self, modes: Sequence[int]) -> ModalBody:
-        """This body with only the elastic ``modes`` (indices into
-        :attr:`elastic_frequencies`, in the order given) and its rigid coordinates; shapes,
-        markers and :attr:`shape_at` are restricted to them (e.g. the rigid modes and one mode
-        of a finite-element body, to compare with a beam's first bending).
+        """A copy of the body with its rigid coordinates and only the elastic ``modes``.
+
+        Parameters
+        ----------
+        modes : sequence of int
+            Indices into :attr:`elastic_frequencies`, kept in the order given.
+
+        Returns
+        -------
+        ModalBody
+            Frequencies (Hz), damping ratios, shapes (m and rad per unit modal coordinate),
+            markers and :attr:`shape_at` restricted to those modes: e.g. the rigid body and
+            one mode of a finite-element body, to compare with a beam's first bending.
+
+        Raises
+        ------
+        ValueError
+            If an index is out of range.
         """
         idx = np.asarray(modes, dtype=np.int64).reshape(-1)
         if idx.size and (idx.min() < 0 or idx.max() >= self.n_elastic):

@@ -4,6 +4,7 @@ carry most of the mode's kinetic energy (m_i·|φ_i|², shares of the total).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -12,7 +13,7 @@ import numpy as np
 from flexride.frequency.lti import Modes
 from flexride.vehicle.topology import VehicleModel
 
-__all__ = ["ModeInfo", "coordinate_label", "describe_modes"]
+__all__ = ["ModeInfo", "coordinate_label", "describe_modes", "mode_of"]
 
 _RIGID = {"x": "longitudinal", "y": "lateral", "z": "bounce", "roll": "roll", "pitch": "pitch",
           "yaw": "yaw"}
@@ -121,6 +122,23 @@ def describe_modes(modes: Modes, mass: np.ndarray, names: list[str],
         out.append(ModeInfo(k, float(freq[k]), float(fd[k]), float(zeta[k]), dom, label,
                             representative=bool(lam[k].imag >= 0.0), partner=int(partners[k])))
     return out
+
+
+def mode_of(info: Sequence[ModeInfo], coordinate: str) -> ModeInfo:
+    """The representative eigenmode of ``info`` in which ``coordinate`` (``carbody.mode1`` …)
+    has the largest share of the kinetic energy.
+
+    Raises
+    ------
+    ValueError
+        If the coordinate dominates no eigenmode (it has less than 10 % of every mode's
+        kinetic energy).
+    """
+    shares = [(dict(m.dominant).get(coordinate, 0.0), m) for m in info if m.representative]
+    share, mode = max(shares, key=lambda sm: sm[0], default=(0.0, None))
+    if mode is None or share <= 0.0:
+        raise ValueError(f"coordinate {coordinate!r} dominates no eigenmode")
+    return mode
 
 
 def _partners(lam: np.ndarray) -> np.ndarray:

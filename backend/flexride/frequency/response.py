@@ -84,6 +84,14 @@ class ResponseSpectra:
         """∫ PSD df over the grid for every channel (units²)."""
         return (self.psd if psd is None else psd) @ self.weights
 
+    def band_rms(self, channel: str, f_lo: float, f_hi: float) -> float:
+        """Rms of ``channel`` over the band ``f_lo`` … ``f_hi`` (Hz): √∫ PSD df by the
+        trapezoidal rule on the grid's points inside the band (m/s² for accelerations).
+        """
+        f = self.frequencies
+        band = (f >= f_lo) & (f <= f_hi)
+        return float(np.sqrt(np.trapezoid(self.psd[self.index(channel)][band], f[band])))
+
     def index(self, channel: str) -> int:
         """Row of ``channel`` in :attr:`psd`."""
         try:
