@@ -23,12 +23,12 @@ def preset(name: str = "paper-metro", **overrides: Any) -> Scenario:
 
 def beam_carbody(params: Any, f1_hz: float, n_modes: int = 3, zeta: float = 0.0,
                  length: float = 19.0) -> Any:
-    """The beam car body (:func:`flexride.fem.beam.beam_carbody`, tested against the closed
-    forms in tests/fem/test_beam.py) with its first ``n_modes`` bending modes: a flexible body
-    independent of the finite-element code."""
+    """The uniform beam car body (:func:`flexride.fem.beam.beam_carbody`, tested against the
+    closed forms in tests/fem/test_beam.py) with its first ``n_modes`` bending modes: a
+    flexible body independent of the finite-element code, its shapes the free–free beam's."""
     from flexride.fem.beam import beam_carbody as beam
     from flexride.fem.beam import free_free_roots
 
     roots = free_free_roots(n_modes)
     cutoff = f1_hz * (roots[-1] / roots[0]) ** 2 * (1.0 + 1e-9)
-    return beam(params, f1_hz, cutoff, zeta, length)
+    return beam(params, f1_hz, cutoff, zeta, length, "uniform")

@@ -11,7 +11,14 @@ import numpy as np
 import pytest
 
 from conftest import preset
-from flexride.fem.beam import beam_carbody, bending_frequencies, free_free_roots, mode_shape
+from flexride.fem.beam import (
+    beam_carbody,
+    beam_masses,
+    bending_frequencies,
+    free_free_roots,
+    hermite_beam,
+    mode_shape,
+)
 from flexride.solver.assemble import vehicle_for
 
 #: Roots of cos βL · cosh βL = 1 (Blevins, Formulas for natural frequency and mode shape,
@@ -72,7 +79,8 @@ def test_frequencies_are_those_of_an_fe_beam_with_the_stiffness_they_imply(first
 
 def test_body_shapes_are_mass_normalised_with_the_cutoff_kept():
     sc = preset()
-    body = beam_carbody(sc.vehicle, 8.0, cutoff_hz=40.0, damping_ratio=0.03, length=LENGTH)
+    body = beam_carbody(sc.vehicle, 8.0, cutoff_hz=40.0, damping_ratio=0.03, length=LENGTH,
+                        mass_distribution="uniform")
     assert body.elastic_frequencies == pytest.approx([8.0, 8.0 * (7.85320462 / 4.73004074)**2])
     assert np.all(body.elastic_damping == 0.03)
     x = np.linspace(-LENGTH / 2, LENGTH / 2, 20001)
@@ -160,3 +168,89 @@ def test_a_very_stiff_beam_gives_the_rigid_bodys_response_in_the_solver():
         a, b = rigid.channels[f"carbody.{p}.acc.z"], stiff.channels[f"carbody.{p}.acc.z"]
         assert np.sqrt(np.mean(b**2)) == pytest.approx(np.sqrt(np.mean(a**2)), rel=0.01), p
         assert np.corrcoef(a, b)[0, 1] > 0.999, p
+
+
+# -- the beam with the vehicle's pitch inertia ---------------------------------------------------
+
+
+@pytest.mark.parametrize("iyy_factor", [1.3236, 0.8])
+def test_the_beams_masses_give_the_vehicles_mass_and_pitch_inertia(iyy_factor):
+    """End masses when Iyy exceeds the uniform beam's mL²/12 (the paper's 1411 against
+    1066 t·m²: factor 1.32), a centre mass when below; the rigid translation and pitch of the
+    assembled mass matrix carry m and Iyy exactly; beyond mL²/4 no distribution does."""
+    from flexride.errors import FEModelError
+
+    mass = 35443.0
+    iyy = iyy_factor * mass * LENGTH**2 / 12
+    per_length, end, centre = beam_masses(mass, iyy, LENGTH)
+    assert (end > 0) == (iyy_factor > 1) and (centre > 0) == (iyy_factor < 1)
+    _, M = hermite_beam(LENGTH, per_length, end, centre, elements=40)
+    x = np.linspace(0.0, LENGTH, 41) - LENGTH / 2
+    translation = np.zeros(M.shape[0])
+    translation[0::2] = 1.0
+    pitch = np.zeros(M.shape[0])
+    pitch[0::2], pitch[1::2] = x, 1.0
+    assert translation @ M @ translation == pytest.approx(mass, rel=1e-12)
+    assert pitch @ M @ pitch == pytest.approx(iyy, rel=1e-12)
+    assert abs(translation @ M @ pitch) < 1e-6 * mass * LENGTH
+    with pytest.raises(FEModelError, match="mL²/4"):
+        beam_masses(mass, 0.26 * mass * LENGTH**2, LENGTH)
+
+
+def _symmetric_roots(mu: float, n: int) -> np.ndarray:
+    """Roots c = βL/2 of tan c + tanh c + 4 μ c = 0: the symmetric modes of a free–free
+    uniform beam with point masses μ·m'L at both ends (moment-free ends whose shear force
+    accelerates the end mass; μ = 0 gives the βL = 4.7300, 10.9956 … of the free beam)."""
+    from scipy.optimize import brentq
+
+    def f(c: float) -> float:
+        return math.sin(c) + math.cos(c) * (math.tanh(c) + 4 * mu * c)  # × cos c: no poles
+
+    roots, c = [], 0.5
+    while len(roots) < n:
+        if f(c) * f(c + 0.01) < 0:
+            roots.append(brentq(f, c, c + 0.01, xtol=1e-14))
+        c += 0.01
+    return np.array(roots)
+
+
+def test_end_masses_give_the_closed_form_symmetric_modes():
+    """The paper's body (Iyy 1.32 × mL²/12): the Hermite beam's first and third elastic
+    frequencies (its symmetric modes) are in the ratio of the closed form's roots, and with
+    no end mass they are Blevins' 4.7300 and 10.9956."""
+    import scipy.linalg as sla
+
+    mass = 35443.0
+    for iyy_factor in (1.0, 1.3236):
+        per_length, end, centre = beam_masses(mass, iyy_factor * mass * LENGTH**2 / 12, LENGTH)
+        K, M = hermite_beam(LENGTH, per_length, end, centre)
+        lam = sla.eigh(K, M, eigvals_only=True)[2:6]
+        c = _symmetric_roots(end / (per_length * LENGTH), 2)
+        assert np.sqrt(lam[2] / lam[0]) == pytest.approx((c[1] / c[0]) ** 2, rel=1e-5)
+        if end == 0.0:
+            assert 2 * c == pytest.approx([4.73004074, 10.99560784], abs=1e-7)
+
+
+def test_the_pitch_matched_body_is_mass_normalised_and_free_of_rigid_motion():
+    """Its shapes (Hermite-interpolated between nodes) are orthonormal in the beam's mass
+    (distributed plus end masses) and orthogonal to its translation and pitch; the first
+    bending's nodes lie near the air springs (6.3 m), beyond the uniform beam's 5.24 m."""
+    sc = preset()
+    cb = sc.vehicle.carbody
+    body = beam_carbody(sc.vehicle, 8.0, cutoff_hz=40.0, damping_ratio=0.02, length=LENGTH)
+    per_length, end, _ = beam_masses(cb.mass, cb.iyy, LENGTH)
+    x = np.linspace(-LENGTH / 2, LENGTH / 2, 19001)
+    uz = np.array([body.shape_at(np.array([xi, 0.0, 0.0]))[2] for xi in x])
+    ends = uz[[0, -1]]
+    gram = (np.trapezoid(uz[:, :, None] * uz[:, None, :], x, axis=0) * per_length
+            + end * (ends[:, :, None] * ends[:, None, :]).sum(axis=0))
+    assert gram == pytest.approx(np.eye(uz.shape[1]), abs=1e-5)
+    # projections on the unit rigid translation 1/√m and pitch x/√Iyy
+    force = np.trapezoid(uz, x, axis=0) * per_length + end * ends.sum(axis=0)
+    assert np.abs(force).max() / math.sqrt(cb.mass) < 1e-6
+    moment = np.trapezoid(uz * x[:, None], x, axis=0) * per_length + end * (
+        ends * np.array([-LENGTH / 2, LENGTH / 2])[:, None]).sum(axis=0)
+    assert np.abs(moment).max() / math.sqrt(cb.iyy) < 1e-6
+    first = uz[:, 0]
+    node = x[x > 0][np.argmin(np.abs(first[x > 0]))]
+    assert 5.9 < node < 6.4 and abs(node) > 5.24

@@ -59,7 +59,7 @@ def test_the_beams_participation_is_its_shape_at_pc_and_the_air_springs():
     half = sc.vehicle.geometry.bogie_centre_spacing / 2
 
     def first_two(f1_hz: float) -> np.ndarray:
-        body = beam_carbody(sc.vehicle, f1_hz, f1_hz * 3.0, ZETA, LENGTH)
+        body = beam_carbody(sc.vehicle, f1_hz, f1_hz * 3.0, ZETA, LENGTH, "uniform")
         return secondary_participation(build_vehicle(sc.vehicle, sc.output, carbody=body), "PC")
 
     phi = mode_shape(float(free_free_roots(1)[0]), LENGTH,
@@ -100,7 +100,7 @@ def _vehicles(fb, sc):
     """The vehicle of ``sc`` with the FE body's rigid coordinates and lowest mode, and with a
     one-mode beam bending at that mode's frequency."""
     f_b = float(fb.body.elastic_frequencies[0])
-    beam = beam_carbody(sc.vehicle, f_b, f_b * (1 + 1e-6), ZETA, LENGTH)
+    beam = beam_carbody(sc.vehicle, f_b, f_b * (1 + 1e-6), ZETA, LENGTH, "uniform")
     return (build_vehicle(sc.vehicle, sc.output, carbody=fb.body.with_modes([0])),
             build_vehicle(sc.vehicle, sc.output, carbody=beam))
 

@@ -20,7 +20,8 @@ from conftest import preset
 from flexride.frequency import estimate, sweep
 
 #: Beam modes kept up to the frequency engine's upper band limit (80 Hz).
-BEAM = {"bodies__carbody__model": "beam", "bodies__carbody__cutoff_hz": 80.0}
+BEAM = {"bodies__carbody__model": "beam", "bodies__carbody__cutoff_hz": 80.0,
+        "bodies__carbody__beam_mass": "uniform"}
 #: First bending frequencies above the band that matters, the rigid value their limit.
 HIGH_HZ = (20.0, 30.0, 50.0)
 QUANTITIES = ("sperling", "Wk", "rms")

@@ -95,7 +95,7 @@ def with_car_body(sc: Scenario, body: ModalBody) -> VehicleModel:
 
 def one_mode_beam(sc: Scenario, f_hz: float) -> ModalBody:
     """A beam car body with its first bending mode alone, at ``f_hz`` (Hz)."""
-    return beam_carbody(sc.vehicle, f_hz, f_hz * (1 + 1e-6), ZETA, LENGTH)
+    return beam_carbody(sc.vehicle, f_hz, f_hz * (1 + 1e-6), ZETA, LENGTH, "uniform")
 
 
 def vertical_shapes_only(body: ModalBody) -> ModalBody:
@@ -115,11 +115,11 @@ def stiff_limit() -> None:
     """Rigid against stiff beams at 80 km/h: frequency engine and a 3 s solver run."""
     sc = case(80)
     beam50 = {"bodies.carbody.model": "beam", "bodies.carbody.first_bending_hz": 50.0,
-              "bodies.carbody.cutoff_hz": 60.0}
+              "bodies.carbody.cutoff_hz": 60.0, "bodies.carbody.beam_mass": "uniform"}
     rows = {"rigid": vertical(sc),
             "beam 50 Hz (scenario)": vertical(case(80, **beam50)),
             "beam 200 Hz (library)": vertical(sc, with_car_body(
-                sc, beam_carbody(sc.vehicle, 200.0, 250.0, ZETA, LENGTH)))}
+                sc, beam_carbody(sc.vehicle, 200.0, 250.0, ZETA, LENGTH, "uniform")))}
     short = {"distance_m": None, "duration_s": 3.0}
     runs = {"rigid": simulate(case(80, **short)),
             "beam 50 Hz (scenario)": simulate(case(80, **short, **beam50))}
@@ -245,7 +245,7 @@ def _mass_distribution(sc: Scenario, nodes: np.ndarray, mass) -> None:
     everywhere): first bending at PC and the air springs, participation, nodes."""
     xs, m = station_masses(nodes, mass)
     half = sc.vehicle.geometry.bogie_centre_spacing / 2
-    uniform = beam_carbody(sc.vehicle, 10.0, 10.0, ZETA, LENGTH)
+    uniform = beam_carbody(sc.vehicle, 10.0, 10.0, ZETA, LENGTH, "uniform")
     x_fine = np.linspace(-LENGTH / 2, LENGTH / 2, 1901)
     shapes = {"uniform mass": (x_fine, np.array([uniform.shape_at(np.array([x, 0.0, 0.0]))[2, 0]
                                                  for x in x_fine])),
@@ -312,7 +312,8 @@ def trend(speeds: Sequence[int], values: Sequence[float]) -> dict[int, dict[str,
     for speed in speeds:
         rigid = vertical(case(speed), points=["PC"])["PC"]
         beam = case(speed, **{"bodies.carbody.model": "beam",
-                              "bodies.carbody.cutoff_hz": TREND_CUTOFF_HZ})
+                              "bodies.carbody.cutoff_hz": TREND_CUTOFF_HZ,
+                              "bodies.carbody.beam_mass": "uniform"})
         res = sweep(beam, "bodies.carbody.first_bending_hz", list(values), points=["PC"])
         out[speed] = {}
         for q, _ in QUANTITIES:
@@ -373,24 +374,28 @@ def mass_distributed_beam(sc: Scenario, xs: np.ndarray, phi: np.ndarray, f_hz: f
 
 def print_mass_distribution_trend(speeds: Sequence[int], element_size: float) -> None:
     """PC vertical indices of a one-mode beam of uniform mass against one with the FE body's
-    mass distribution (uniform stiffness), at the bogies' in-phase frequencies in 5–15 Hz."""
+    mass distribution and one with the vehicle's pitch inertia (end masses; uniform stiffness
+    in all three), at the bogies' in-phase frequencies in 5–15 Hz."""
     sc = case(speeds[0])
     model, _ = build_fe_model("carbody", sc.vehicle, element_size)
     xs, m = station_masses(model.nodes, model.assemble()[1])
     phi = lumped_beam_first_bending(xs, m)
     spacing = sc.vehicle.geometry.bogie_centre_spacing
-    print("\nOne bending mode, uniform mass against the FE body's mass distribution, at the "
-          "frequencies where the bogies move in phase (change against rigid):\n")
-    print("| km/h | f_b (Hz) | " + " | ".join(f"uniform {lab}" for _, lab in QUANTITIES)
-          + " | " + " | ".join(f"FE mass {lab}" for _, lab in QUANTITIES) + " |")
-    print("| --- " * (2 + 2 * len(QUANTITIES)) + "|")
+    print("\nOne bending mode, uniform mass against the FE body's mass distribution and the "
+          "beam with the vehicle's pitch inertia (bodies.carbody.beam_mass: pitch_inertia), "
+          "at the frequencies where the bogies move in phase (change against rigid):\n")
+    groups = ("uniform", "FE mass", "pitch Iyy")
+    print("| km/h | f_b (Hz) | " + " | ".join(f"{g} {lab}" for g in groups
+                                              for _, lab in QUANTITIES) + " |")
+    print("| --- " * (2 + len(groups) * len(QUANTITIES)) + "|")
     for speed in speeds:
         sc = case(speed)
         rigid = vertical(sc, points=["PC"])["PC"]
         period = speed / 3.6 / spacing
         for f_b in (n * period for n in range(1, 30) if 5.0 <= n * period <= 15.0):
             cells = []
-            for body in (one_mode_beam(sc, f_b), mass_distributed_beam(sc, xs, phi, f_b)):
+            pitch = beam_carbody(sc.vehicle, f_b, f_b * (1 + 1e-6), ZETA, LENGTH)
+            for body in (one_mode_beam(sc, f_b), mass_distributed_beam(sc, xs, phi, f_b), pitch):
                 d = vertical(sc, with_car_body(sc, body), ["PC"])["PC"]
                 cells += [_pct(index(d, q), index(rigid, q), 1) for q, _ in QUANTITIES]
             print(f"| {speed} | {f_b:.2f} | " + " | ".join(cells) + " |")

@@ -47,6 +47,13 @@ class BodyModel(Schema):
         10.0, ge=2.0, le=50.0, unit="Hz",
         description="First vertical bending frequency of the beam car body (model: beam)",
     )
+    beam_mass: Literal["pitch_inertia", "uniform"] = Field(
+        "pitch_inertia",
+        description="Mass distribution of the beam car body (model: beam): pitch_inertia (a "
+        "uniform beam plus point masses at its ends, or its centre, carrying the vehicle's mass "
+        "and pitch inertia) or uniform (mass spread evenly, the classical beam of the "
+        "literature, whose pitch inertia mL²/12 is not the vehicle's)",
+    )
 
     @property
     def elastic(self) -> bool:

@@ -153,7 +153,7 @@ def _beam(scenario: Scenario, settings):
     from flexride.fem.carbody import CarBodyParams
 
     return beam_carbody(scenario.vehicle, settings.first_bending_hz, settings.cutoff_hz,
-                        settings.damping_ratio, CarBodyParams().length)
+                        settings.damping_ratio, CarBodyParams().length, settings.beam_mass)
 
 
 def vehicle_for(scenario: Scenario) -> VehicleModel:
