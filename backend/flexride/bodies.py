@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -83,6 +84,10 @@ class ModalBody:
     shape_at : callable, optional
         For flexible bodies: position relative to the CG (m) → (6, n_elastic) elastic mode
         shapes there; used for markers added without explicit shapes.
+    info : dict
+        What the body's build reports about how it was made, JSON-able (no effect on the
+        dynamics): e.g. ``calibration`` for a car body calibrated to typed target modes
+        (:attr:`flexride.fem.flexible_body.FlexibleBody.calibration`).
     """
 
     name: str
@@ -97,6 +102,7 @@ class ModalBody:
     marker_positions: dict[str, np.ndarray] = field(default_factory=dict)
     is_wheelset: bool = False
     shape_at: Callable[[np.ndarray], np.ndarray] | None = None
+    info: dict[str, Any] = field(default_factory=dict)
 
     @property
     def n_elastic(self) -> int:
@@ -155,7 +161,8 @@ class ModalBody:
             markers={k: v[:, columns].copy() for k, v in self.markers.items()},
             marker_positions={k: v.copy() for k, v in self.marker_positions.items()},
             is_wheelset=self.is_wheelset,
-            shape_at=None if self.shape_at is None else _columns_of(self.shape_at, idx))
+            shape_at=None if self.shape_at is None else _columns_of(self.shape_at, idx),
+            info=dict(self.info))
 
     def add_marker(
         self,

@@ -29,36 +29,17 @@ from flexride.fem.calibration_eval import (
     paired_residuals,
 )
 from flexride.fem.calibration_result import CalibrationResult
+from flexride.fem.calibration_variables import BOUNDS as BOUNDS
+from flexride.fem.calibration_variables import DEFAULT_VARIABLES as DEFAULT_VARIABLES
 from flexride.fem.carbody import CarBodyParams, build_carbody
 from flexride.fem.eigen import Modes, free_free_modes
 from flexride.fem.massmatch import InertiaTarget
 from flexride.fem.modal_test import Sensors
 from flexride.fem.model import FEModel
-from flexride.fem.pairing import MIN_MAC
+from flexride.fem.pairing import MIN_MAC, TargetPair
 from flexride.fem.rigid import rigid_body_vectors
 from flexride.fem.targets import ModeTarget, as_targets
 
-#: Calibration variables and their bounds (SI units).
-BOUNDS: dict[str, tuple[float, float]] = {
-    "floor_depth": (0.020, 0.080),
-    "wall_depth": (0.020, 0.080),
-    "roof_depth": (0.015, 0.060),
-    "end_depth": (0.020, 0.080),
-    "floor_face": (1.5e-3, 4.0e-3),
-    "wall_face": (1.5e-3, 4.0e-3),
-    "roof_face": (1.5e-3, 4.0e-3),
-    "end_face": (1.5e-3, 4.0e-3),
-    "beam_scale": (0.5, 2.0),
-    "nsm_underfloor": (0.10, 0.60),
-}
-DEFAULT_VARIABLES: tuple[str, ...] = (
-    "floor_depth",
-    "wall_depth",
-    "roof_depth",
-    "end_depth",
-    "beam_scale",
-    "nsm_underfloor",
-)
 #: Finite-difference step of the Jacobian on the log of each variable (5 %).
 LOG_STEP = 0.05
 
@@ -95,6 +76,7 @@ def calibrate_carbody(
     sensors: Sensors | None = None,
     max_sensor_distance: float | None = None,
     min_mac: float = MIN_MAC,
+    require_paired: bool = False,
 ) -> CalibrationResult:
     """Update car-body sections and mass split so that the paired modes hit the targets.
 
@@ -131,6 +113,10 @@ def calibrate_carbody(
         Largest accepted sensor-to-node distance (m); the element size when omitted.
     min_mac : float
         Least MAC of a pair for targets with a shape (-).
+    require_paired : bool
+        Refuse, after the first evaluation (at the starting values, before the optimisation
+        spends its budget), targets that pair with no computed mode there: a target left
+        unpaired is fitted by nothing, so the calibration could not move towards it.
 
     Returns
     -------
@@ -142,7 +128,8 @@ def calibrate_carbody(
     ------
     FEModelError
         For no or invalid targets, unknown variables, fewer computed modes than targets,
-        shapes without sensors or sensors far from the model.
+        shapes without sensors or sensors far from the model; with ``require_paired``, for
+        targets the starting model cannot pair (the message gives each one's reason).
     """
     setup = _setup(targets, target, base, variables, element_size, n_modes, sensors,
                    max_sensor_distance, min_mac)
@@ -150,6 +137,8 @@ def calibrate_carbody(
     z0 = np.log(x0)
     t_start = time.perf_counter()
     evaluate = Evaluations(setup, progress)
+    if require_paired:
+        _require_paired(evaluate(z0).pairs, setup.n_modes)
 
     def residual(z: np.ndarray) -> np.ndarray:
         return np.concatenate([paired_residuals(evaluate(z).pairs),
@@ -198,6 +187,17 @@ def _setup(targets: Sequence[ModeTarget | float], inertia: InertiaTarget,
         n_modes=n, targets=tuple(t), sensors=sensors,
         max_sensor_distance=float(max_sensor_distance or element_size), min_mac=float(min_mac),
     )
+
+
+def _require_paired(pairs: Sequence[TargetPair], n_modes: int) -> None:
+    """Refuse targets without a paired mode (:class:`FEModelError` with each one's reason)."""
+    missing = [f"target {k + 1} ({p.target.describe()}): {p.message}"
+               for k, p in enumerate(pairs) if p.mode is None]
+    if missing:
+        raise FEModelError(
+            f"the car body at the starting values pairs no mode with {len(missing)} of "
+            f"{len(pairs)} targets among its {n_modes} lowest elastic modes, so the calibration "
+            "cannot fit them: " + "; ".join(missing))
 
 
 def _jacobian(evaluate: Evaluations, z: np.ndarray, z_hi: np.ndarray,

@@ -30,7 +30,7 @@ import numpy as np
 
 from flexride.errors import FEModelError
 from flexride.fileio import write_bytes_atomic
-from flexride.scenario.bodies import BodyModel
+from flexride.scenario.bodies import BodyModel, CarBodyCalibration
 from flexride.scenario.vehicle import Vehicle
 
 #: Body kinds with an FE model, and the field of ``scenario.bodies`` that configures each.
@@ -134,6 +134,12 @@ class ExportSpec:
         Car-body shell element size (m); the frame uses ``min(element_size_m / 2, 0.1)``.
     max_modes : int
         Number of mode shapes exported (the lowest ones).
+    calibration : dict or None
+        The car body only: the JSON form of a
+        :class:`~flexride.scenario.bodies.CarBodyCalibration` (``bodies.carbody.calibration``:
+        typed targets, variables, evaluation budget) to calibrate the model to before it is
+        reduced; None: the default body. Not part of the content key when None, so the
+        default body's exports keep theirs.
     """
 
     kind: str
@@ -142,6 +148,7 @@ class ExportSpec:
     cutoff_hz: float
     element_size_m: float
     max_modes: int
+    calibration: dict[str, Any] | None = None
 
     @classmethod
     def create(cls, kind: str, vehicle: Vehicle, body: BodyModel,
@@ -155,15 +162,25 @@ class ExportSpec:
         vehicle : Vehicle
             Validated vehicle parameters.
         body : BodyModel
-            Reduction, cut-off (Hz) and element size (m) (``scenario.bodies.*``).
+            Reduction, cut-off (Hz), element size (m) and, for the car body, calibration
+            (``scenario.bodies.*``).
         max_modes : int
             Number of mode shapes exported.
+
+        Raises
+        ------
+        ValueError
+            For an unknown kind, or a calibration of the frame.
         """
         if kind not in BODY_FIELDS:
             raise ValueError(f"unknown body kind {kind!r}: use carbody or frame")
+        if kind != "carbody" and body.calibration is not None:
+            raise ValueError("a calibration is the car body's: the frame has none")
+        cal = None if body.calibration is None else body.calibration.model_dump(mode="json")
         return cls(kind=kind, vehicle=vehicle.model_dump(mode="json"),
                    reduction=body.reduction, cutoff_hz=float(body.cutoff_hz),
-                   element_size_m=float(body.element_size_m), max_modes=int(max_modes))
+                   element_size_m=float(body.element_size_m), max_modes=int(max_modes),
+                   calibration=cal)
 
     @property
     def key(self) -> str:
@@ -172,7 +189,10 @@ class ExportSpec:
         """
         from flexride import __version__
 
-        payload = {"spec": asdict(self), "flexride": __version__, "format": EXPORT_FORMAT}
+        spec = asdict(self)
+        if spec["calibration"] is None:  # the default body's keys as before the field
+            del spec["calibration"]
+        payload = {"spec": spec, "flexride": __version__, "format": EXPORT_FORMAT}
         text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
 
@@ -185,21 +205,45 @@ class ExportSpec:
         FEModelError
             When ``data`` is not such a spec.
         """
-        fields = ("kind", "vehicle", "reduction", "cutoff_hz", "element_size_m", "max_modes")
+        fields = {"kind", "vehicle", "reduction", "cutoff_hz", "element_size_m", "max_modes"}
         try:
-            if set(data) != set(fields) or data["kind"] not in BODY_FIELDS:
+            if set(data) - {"calibration"} != fields or data["kind"] not in BODY_FIELDS:
                 raise ValueError(f"fields {sorted(data)}")
+            cal = data.get("calibration")
             return cls(kind=str(data["kind"]), vehicle=dict(data["vehicle"]),
                        reduction=str(data["reduction"]), cutoff_hz=float(data["cutoff_hz"]),
                        element_size_m=float(data["element_size_m"]),
-                       max_modes=int(data["max_modes"]))
+                       max_modes=int(data["max_modes"]),
+                       calibration=None if cal is None else dict(cal))
         except (TypeError, ValueError, KeyError) as exc:
             raise FEModelError(f"not an FE export spec: {exc}") from None
 
     def parameters(self) -> dict[str, Any]:
-        """The body-model parameters (names and units of the scenario's ``bodies`` schema)."""
-        return {"kind": self.kind, "reduction": self.reduction, "cutoff_hz": self.cutoff_hz,
-                "element_size_m": self.element_size_m, "max_modes": self.max_modes}
+        """The body-model parameters (names and units of the scenario's ``bodies`` schema),
+        with ``calibration`` (its JSON form) for a calibrated car body.
+        """
+        out: dict[str, Any] = {"kind": self.kind, "reduction": self.reduction,
+                               "cutoff_hz": self.cutoff_hz,
+                               "element_size_m": self.element_size_m,
+                               "max_modes": self.max_modes}
+        if self.calibration is not None:
+            out["calibration"] = self.calibration
+        return out
+
+    def body_calibration(self) -> CarBodyCalibration | None:
+        """The calibration, validated (None for the default body).
+
+        Raises
+        ------
+        FEModelError
+            When the stored calibration is not a valid one.
+        """
+        if self.calibration is None:
+            return None
+        try:
+            return CarBodyCalibration.model_validate(self.calibration)
+        except ValueError as exc:
+            raise FEModelError(f"not a car-body calibration: {exc}") from None
 
 
 def export_path(cache_dir: str | os.PathLike[str], key: str) -> Path:
@@ -231,7 +275,9 @@ def build_export(spec: ExportSpec, progress: Progress = _no_progress) -> dict[st
         The ``flexride fe export`` JSON (nodes in m, frequencies in Hz, each mode scaled to a
         largest nodal translation of 1 with ``scale_m`` back to unit modal mass) plus ``model``:
         the parameters, ``n_nodes``, ``n_elastic_modes`` retained below the cut-off,
-        ``frequencies_hz`` of all of them, ``from_cache`` and ``build_seconds`` (s).
+        ``frequencies_hz`` of all of them, ``from_cache`` and ``build_seconds`` (s); for a
+        calibrated car body ``calibration`` (the targets, calibrated values and pairing:
+        :meth:`flexride.fem.calibrated_body.CalibratedCarBody.summary`).
 
     Raises
     ------
@@ -242,11 +288,27 @@ def build_export(spec: ExportSpec, progress: Progress = _no_progress) -> dict[st
     from flexride.fem.mesh_study import build_estimate
 
     vehicle = Vehicle.model_validate(spec.vehicle)
-    progress(0.05, f"building the FE model of the {BODY_LABELS[spec.kind]} (mesh, eigenmodes, "
-             f"{spec.reduction} reduction; loaded from the FE cache when a job built it)")
+    calibration = spec.body_calibration()
+    label = BODY_LABELS[spec.kind]
+    if calibration is not None:
+        budget = calibration.max_evaluations
+        progress(0.02, f"building the FE model of the {label}: calibrating it to "
+                 f"{calibration.targets_spelling()} (at most {budget} FE evaluations; "
+                 f"loaded from the FE cache when done before), then mesh, eigenmodes, "
+                 f"{spec.reduction} reduction")
+
+        def calibrating(n: int, freqs: np.ndarray) -> None:
+            hz = ", ".join("-" if np.isnan(f) else f"{f:.2f}" for f in freqs)
+            progress(0.02 + 0.6 * min(n, budget) / budget,
+                     f"building the FE model of the {label}: calibration evaluation {n} of at "
+                     f"most {budget} (paired modes {hz} Hz)")
+    else:
+        progress(0.05, f"building the FE model of the {label} (mesh, eigenmodes, "
+                 f"{spec.reduction} reduction; loaded from the FE cache when a job built it)")
     fb = build_flexible_body(spec.kind, vehicle, method=spec.reduction,  # type: ignore[arg-type]
                              cutoff_hz=spec.cutoff_hz, element_size=spec.element_size_m,
-                             name=spec.kind)
+                             name=spec.kind, calibration=calibration,
+                             calibration_progress=None if calibration is None else calibrating)
     progress(0.9, f"exporting the mesh and {spec.max_modes} mode shapes")
     data = fb.export(max_modes=spec.max_modes)
     freqs = [float(f) for f in fb.body.elastic_frequencies]
@@ -259,10 +321,25 @@ def build_export(spec: ExportSpec, progress: Progress = _no_progress) -> dict[st
         "frequencies_hz": freqs,
         "from_cache": bool(fb.from_cache),
         "build_seconds": float(fb.build_seconds),
-        "discretisation": build_estimate(spec.kind, vehicle, model_element_size(spec),
-                                         max(1, min(spec.max_modes, DEFAULT_MAX_MODES))),
+        "discretisation": build_estimate(
+            spec.kind, vehicle, model_element_size(spec),
+            max(1, min(spec.max_modes, DEFAULT_MAX_MODES)),
+            None if calibration is None else params_of(fb)),
     }
+    if fb.calibration is not None:
+        data["model"]["calibration"] = fb.calibration
     return data
+
+
+def params_of(fb: Any) -> Any:
+    """The car-body parameters a calibrated :class:`~flexride.fem.flexible_body.FlexibleBody`
+    was built from (its calibrated values on the defaults).
+    """
+    from flexride.fem.carbody import CarBodyParams
+    from flexride.fem.defaults import default_carbody_params
+
+    base: CarBodyParams = default_carbody_params()
+    return base.with_values(**fb.calibration["values"])
 
 
 def model_element_size(spec: ExportSpec) -> float:

@@ -16,6 +16,7 @@ models and inertia targets), :mod:`~flexride.fem.reduce` (reduction and report),
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -35,6 +36,10 @@ from flexride.fem.massmatch import InertiaTarget
 from flexride.fem.model import FEModel
 from flexride.fem.reduce import METHODS, Method, reduce_model
 from flexride.fem.vehicle_models import ATTACHMENTS, OUTPUTS, Kind, build_fe_model
+from flexride.scenario.bodies import CarBodyCalibration
+
+CalibrationProgress = Callable[[int, np.ndarray], None]
+"""``progress(n_evaluations, frequencies_hz)`` of a calibration."""
 
 
 def build_flexible_body(
@@ -50,6 +55,8 @@ def build_flexible_body(
     *,
     params: CarBodyParams | FrameParams | None = None,
     use_cache: bool = True,
+    calibration: CarBodyCalibration | None = None,
+    calibration_progress: CalibrationProgress | None = None,
 ) -> FlexibleBody:
     """Build (or load from the cache) a reduced flexible car body or bogie frame.
 
@@ -79,16 +86,40 @@ def build_flexible_body(
         Model parameters instead of the calibrated defaults.
     use_cache : bool
         Read and write the on-disk cache.
+    calibration : CarBodyCalibration, optional
+        The car body only (``bodies.carbody.calibration``): calibrate the model to typed
+        targets first (:func:`flexride.fem.calibrated_body.calibrated_carbody`, at
+        ``element_size``, cached by content), then build the body from the calibrated values;
+        ``FlexibleBody.calibration`` and ``body.info["calibration"]`` report it.
+    calibration_progress : callable, optional
+        ``progress(n_evaluations, frequencies_hz)`` after each FE evaluation of a
+        calibration that runs.
 
     Returns
     -------
     FlexibleBody
+
+    Raises
+    ------
+    FEModelError
+        For an unknown kind or method, a calibration of the frame or together with
+        ``params``, or a calibration whose targets pair with no model mode.
     """
     t0 = time.perf_counter()
     if kind not in ("carbody", "frame"):
         raise FEModelError(f"unknown body kind {kind!r}: use 'carbody' or 'frame'")
     if method not in METHODS:
         raise FEModelError(f"unknown reduction method {method!r}: use one of {', '.join(METHODS)}")
+    calibrated = None
+    if calibration is not None:
+        if kind != "carbody" or params is not None:
+            raise FEModelError("a calibration applies to the car body's default model only "
+                               "(kind 'carbody', no params)")
+        from flexride.fem.calibrated_body import calibrated_carbody
+
+        calibrated = calibrated_carbody(vehicle, calibration, element_size,
+                                        use_cache=use_cache, progress=calibration_progress)
+        params = calibrated.params
     inputs = vehicle_body_inputs(kind, vehicle, method, cutoff_hz, element_size, extra_points,
                                  params)
 
@@ -97,9 +128,13 @@ def build_flexible_body(
                                      extra_points, params)
 
     arrays, meta, from_cache = load_or_build(inputs, build, use_cache)
-    return body_from_entry(
+    fb = body_from_entry(
         arrays, meta, name, x_ref, damping_ratio, kind, extra_points, t0, from_cache
     )
+    if calibrated is not None:
+        fb.calibration = calibrated.summary()
+        fb.body.info["calibration"] = fb.calibration
+    return fb
 
 
 def _reduce_vehicle_model(inputs: dict, kind: Kind, vehicle, method: Method, cutoff_hz: float,

@@ -40,6 +40,10 @@ class FlexibleBody:
         Time to build (or load) the body.
     from_cache : bool
         Whether the body was loaded from the cache.
+    calibration : dict or None
+        For a car body calibrated at build time (``bodies.carbody.calibration``): the
+        targets, the calibrated values and the pairing with each target's frequency error
+        (:meth:`flexride.fem.calibrated_body.CalibratedCarBody.summary`); None otherwise.
     """
 
     body: ModalBody
@@ -52,6 +56,7 @@ class FlexibleBody:
     floor_grid: list[str] = field(default_factory=list)
     build_seconds: float = 0.0
     from_cache: bool = False
+    calibration: dict[str, Any] | None = None
 
     def shape_at(self, position_xyz: tuple[float, float, float] | np.ndarray) -> np.ndarray:
         """(6, n_elastic) elastic shapes at the node nearest to ``position_xyz`` (m, relative

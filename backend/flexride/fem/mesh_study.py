@@ -188,10 +188,12 @@ def frequency_convergence(kind: str, vehicle, sizes: Sequence[float], n_modes: i
     return FrequencyConvergence(kind, tuple(meshes), _follow(meshes))
 
 
-def mesh_modes(kind: str, vehicle, size: float, n_modes: int) -> MeshModes:
-    """The lowest ``n_modes`` elastic modes of ``kind`` at element size ``size`` (m)."""
+def mesh_modes(kind: str, vehicle, size: float, n_modes: int, params=None) -> MeshModes:
+    """The lowest ``n_modes`` elastic modes of ``kind`` at element size ``size`` (m), with
+    the car body's ``params`` (e.g. calibrated values) instead of the defaults.
+    """
     t0 = time.perf_counter()
-    model = fe_model_at(kind, vehicle, size)
+    model = fe_model_at(kind, vehicle, size, params)
     K, M = model.assemble()
     modes = free_free_modes(K, M, rigid_body_vectors(model.nodes), n_elastic=n_modes)
     shapes = modes.shapes[:, 6:6 + n_modes]
@@ -205,15 +207,16 @@ def mesh_modes(kind: str, vehicle, size: float, n_modes: int) -> MeshModes:
     return MeshModes(size, int(model.n_dof), freqs, tuple(types), time.perf_counter() - t0)
 
 
-def fe_model_at(kind: str, vehicle, size: float) -> FEModel:
+def fe_model_at(kind: str, vehicle, size: float, params=None) -> FEModel:
     """The mass-matched FE model of ``kind`` with elements of ``size`` (m): the car body's
-    shells, or the frame's beams (not the frame's default of half the car body's size).
+    shells, or the frame's beams (not the frame's default of half the car body's size); the
+    car body with ``params`` instead of the calibrated defaults when given.
     """
     if kind == "frame":
         if not 0.01 <= size <= 0.5:
             raise FEModelError(f"frame element size must be 0.01–0.5 m, got {size}")
         return build_frame(frame_params_for(vehicle), frame_target(vehicle), size)
-    model, _target = build_fe_model(kind, vehicle, size)  # type: ignore[arg-type]
+    model, _target = build_fe_model(kind, vehicle, size, params)  # type: ignore[arg-type]
     return model
 
 
@@ -265,7 +268,7 @@ def _estimate(sizes: Sequence[float], freqs: Sequence[float | None]
         hs, fs, ELEMENT_ORDER)
 
 
-def build_estimate(kind: str, vehicle, size: float, n_modes: int) -> dict:
+def build_estimate(kind: str, vehicle, size: float, n_modes: int, params=None) -> dict:
     """A build's own discretisation estimate: its lowest ``n_modes`` elastic modes and those
     of a companion mesh :data:`COMPANION_RATIO` times coarser (capped by the builder's range),
     followed as in the study, and per mode the two-mesh GCI at :data:`ELEMENT_ORDER`.
@@ -280,6 +283,9 @@ def build_estimate(kind: str, vehicle, size: float, n_modes: int) -> dict:
         The build's element size (m): the car body's shells or the frame's beams.
     n_modes : int
         Modes to estimate.
+    params : CarBodyParams, optional
+        The car body's parameters (e.g. calibrated values; both meshes use them) instead of
+        the defaults.
 
     Returns
     -------
@@ -292,8 +298,8 @@ def build_estimate(kind: str, vehicle, size: float, n_modes: int) -> dict:
     companion = min(size * COMPANION_RATIO, cap)
     if companion <= size:
         raise FEModelError(f"no coarser companion for element size {size} m (largest {cap} m)")
-    meshes = [mesh_modes(kind, vehicle, companion, 2 * n_modes),
-              mesh_modes(kind, vehicle, size, n_modes)]
+    meshes = [mesh_modes(kind, vehicle, companion, 2 * n_modes, params),
+              mesh_modes(kind, vehicle, size, n_modes, params)]
     modes = []
     for f in _follow(meshes):
         e = f.estimate
