@@ -186,3 +186,30 @@ def test_a_calibration_of_the_frame_or_with_params_is_refused(vehicle):
     cal = CarBodyCalibration(targets="6.11:rhombic")
     with pytest.raises(FEModelError, match="car body"):
         build_flexible_body("frame", vehicle, calibration=cal)
+
+
+def test_the_cli_builds_the_calibrated_body_with_the_same_spelling(cache_dir, tmp_path):
+    """``flexride fe export --calibration-targets`` takes the spelling of ``fe calibrate
+    --targets`` and of the scenario, and writes the calibration beside the modes; a bad type
+    is one line and exit code 2."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from flexride.cli import app
+
+    out = tmp_path / "cal.json"
+    args = ["fe", "export", "carbody", "--element-size", "0.5", "--n-modes", "3",
+            "--cutoff", "20", "--out", str(out), "--calibration-targets", SMALL["targets"],
+            "--calibration-variables", "floor_depth", "--calibration-max-evaluations", "4"]
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    data = json.loads(out.read_text())
+    cal = data["calibration"]
+    assert cal["targets"] == CarBodyCalibration(targets=SMALL["targets"]).targets_spelling()
+    assert [p["target_type"] for p in cal["pairs"]] == ["rhombic", "first vertical bending"]
+    assert len(data["modes"]) == 3
+    r = CliRunner().invoke(app, [*args[:-6], "--calibration-targets", "5:twisting"])
+    assert r.exit_code == 2 and "unknown mode type 'twisting'" in r.output
+    r = CliRunner().invoke(app, ["fe", "export", "frame", "--calibration-targets", "5"])
+    assert r.exit_code == 2 and "car body" in r.output

@@ -54,9 +54,10 @@ def _vehicle(preset: str):
 
 
 def _build_body(kind: str, preset: str, method: str, cutoff: float, element_size: float,
-                use_cache: bool = True):
-    """The reduced default body for the ``reduce`` and ``export`` commands: options checked
-    first, any flexride error as one line and a non-zero exit.
+                use_cache: bool = True, calibration=None):
+    """The reduced default body (or the car body calibrated to ``calibration``) for the
+    ``reduce`` and ``export`` commands: options checked first, any flexride error as one
+    line and a non-zero exit.
     """
     try:
         from flexride.fem.flexible import build_flexible_body
@@ -64,11 +65,53 @@ def _build_body(kind: str, preset: str, method: str, cutoff: float, element_size
         reduction = _method(method)
         if not (cutoff > 0 and np.isfinite(cutoff)):
             _fail(f"--cutoff must be a positive frequency in Hz, got {cutoff}")
+
+        def progress(n: int, f) -> None:
+            _err.print(f"  calibration evaluation {n}: "
+                       + ", ".join("-" if np.isnan(v) else f"{v:.3f}" for v in f) + " Hz")
+
         return build_flexible_body(_kind(kind), _vehicle(preset), method=reduction,
                                    cutoff_hz=cutoff, element_size=element_size, name=kind,
-                                   use_cache=use_cache)
+                                   use_cache=use_cache, calibration=calibration,
+                                   calibration_progress=progress)
     except FlexrideError as exc:
         _fail(str(exc))
+
+
+def _calibration(kind: str, targets: str | None, variables: str, max_evaluations: int):
+    """The car-body calibration of ``--calibration-targets`` … (the schema of a scenario's
+    ``bodies.carbody.calibration``; its errors as one line), or None without targets.
+    """
+    from pydantic import ValidationError
+
+    from flexride.scenario.bodies import CarBodyCalibration
+
+    if targets is None:
+        return None
+    if kind != "carbody":
+        _fail("--calibration-targets: a calibration is the car body's; the frame has none")
+    data: dict = {"targets": targets, "max_evaluations": max_evaluations}
+    names = [v.strip() for v in variables.split(",") if v.strip()]
+    if names:
+        data["variables"] = names
+    try:
+        return CarBodyCalibration.model_validate(data)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        where = ".".join(str(p) for p in err["loc"]) or "calibration"
+        _fail(f"--calibration-{where.split('.')[0].replace('_', '-')}: "
+              f"{str(err['msg']).removeprefix('Value error, ')}")
+
+
+CalTargetsOpt = Annotated[str | None, typer.Option(
+    "--calibration-targets", help="Car body: calibrate it first to targets FREQ[:TYPE],… "
+    "(Hz; the spelling of calibrate --targets and of bodies.carbody.calibration.targets).",
+    show_default=False)]
+CalVariablesOpt = Annotated[str, typer.Option(
+    "--calibration-variables", help="Comma-separated calibration variables (default: those "
+    "of the default body's calibration).")]
+CalBudgetOpt = Annotated[int, typer.Option(
+    "--calibration-max-evaluations", help="Budget of FE evaluations of the calibration.")]
 
 
 _KINDS: tuple[Kind, ...] = ("carbody", "frame")
@@ -163,6 +206,20 @@ def _print_mass(m: dict) -> None:
         )
 
 
+def _calibration_lines(cal: dict) -> str:
+    """The calibration of a built body: targets, pairs with their errors, values."""
+    state = "from the FE cache" if cal.get("from_cache") else f"{cal['seconds']:.0f} s"
+    lines = [f"calibrated to {cal['targets']} ({cal['n_evaluations']} of at most "
+             f"{cal['max_evaluations']} FE evaluations, {state}; "
+             f"{'all' if cal['success'] else 'NOT all'} within ±{100 * cal['tolerance']:g} %):"]
+    for p in cal["pairs"]:
+        lines.append(f"  {p['target_hz']:7.3f} Hz {p['target_type'] or '(any)':<24} -> mode "
+                     f"{p['mode']:>2} {p['model_hz']:7.3f} Hz {100 * p['error']:+6.2f} %  "
+                     f"{p['model_type']}")
+    lines.append("  values: " + ", ".join(f"{k} {v:.5g}" for k, v in cal["values"].items()))
+    return "\n".join(lines)
+
+
 @fe_app.command("reduce")
 def reduce_cmd(
     kind: KindArg,
@@ -177,15 +234,24 @@ def reduce_cmd(
     no_cache: Annotated[
         bool, typer.Option("--no-cache", help="Rebuild, do not use the cache.")
     ] = False,
+    calibration_targets: CalTargetsOpt = None,
+    calibration_variables: CalVariablesOpt = "",
+    calibration_max_evaluations: CalBudgetOpt = 30,
 ) -> None:
-    """Reduce a default model and print the reduction report."""
-    fb = _build_body(kind, preset, method, cutoff, element_size, use_cache=not no_cache)
+    """Reduce a default (or calibrated) model and print the reduction report."""
+    cal = _calibration(kind, calibration_targets, calibration_variables,
+                       calibration_max_evaluations)
+    fb = _build_body(kind, preset, method, cutoff, element_size, use_cache=not no_cache,
+                     calibration=cal)
     if as_json:
         d = fb.report.to_dict()
         d["build_seconds"] = fb.build_seconds
         d["from_cache"] = fb.from_cache
+        d["calibration"] = fb.calibration
         _print_json(d)
         return
+    if fb.calibration is not None:
+        _out.print(_calibration_lines(fb.calibration), markup=False)
     _out.print(fb.report.table(max_rows=max_rows), markup=False)
     _out.print(
         f"({'loaded from cache' if fb.from_cache else 'built'} in {fb.build_seconds:.2f} s)",
@@ -344,10 +410,20 @@ def export_cmd(
     n_modes: Annotated[int, typer.Option("--n-modes", min=0, max=500)] = 12,
     element_size: SizeOpt = 0.2,
     preset: PresetOpt = "paper-metro",
+    calibration_targets: CalTargetsOpt = None,
+    calibration_variables: CalVariablesOpt = "",
+    calibration_max_evaluations: CalBudgetOpt = 30,
 ) -> None:
-    """Mesh and mode shapes as JSON for a browser."""
-    fb = _build_body(kind, preset, method, cutoff, element_size)
-    text = json.dumps(fb.export(max_modes=n_modes))
+    """Mesh and mode shapes as JSON for a browser (of the calibrated car body with
+    --calibration-targets: then ``calibration`` holds the calibrated values and the pairing).
+    """
+    cal = _calibration(kind, calibration_targets, calibration_variables,
+                       calibration_max_evaluations)
+    fb = _build_body(kind, preset, method, cutoff, element_size, calibration=cal)
+    data = fb.export(max_modes=n_modes)
+    if fb.calibration is not None:
+        data["calibration"] = fb.calibration
+    text = json.dumps(data)
     if str(out) == "-":
         sys.stdout.write(text + "\n")
     else:

@@ -50,6 +50,46 @@ class FEDiscretisation(BaseModel):
     modes: list[FEModeEstimate]
 
 
+class FEPair(BaseModel):
+    """One calibration target and the model mode paired with it (``flexride fe calibrate``'s
+    rules: by type, then frequency; an optimal assignment over all targets).
+    """
+
+    target_hz: float = Field(description="Target frequency (Hz)")
+    target_type: str | None = Field(description="Wanted mode type; null: any")
+    label: str = Field(description="The target's name, or empty")
+    mode: int | None = Field(description="Paired elastic mode (1 = lowest); null: unpaired")
+    model_hz: float | None = Field(description="The paired mode's frequency (Hz)")
+    error: float | None = Field(description="Relative frequency error model/target − 1 (-)")
+    model_type: str | None = Field(description="The paired mode's type (the classifier's)")
+    mac: float | None = Field(description="MAC with the target's shape (none here: null)")
+    message: str = Field(description="Why the target is unpaired; empty when paired")
+
+
+class FECalibration(BaseModel):
+    """How a car body was calibrated to typed targets when it was built
+    (``bodies.carbody.calibration``, ``calibration_targets``).
+    """
+
+    targets: str = Field(description="The targets, FREQ[:TYPE],… (Hz)")
+    values: dict[str, float] = Field(description="Calibrated variables (SI: m, or -)")
+    initial: dict[str, float] = Field(description="Their starting values (the default body's)")
+    at_bound: list[str] = Field(description="Variables that ended on a bound")
+    pairs: list[FEPair] = Field(description="Each target with its paired mode at the "
+                                "calibrated values (among the calibration's computed modes)")
+    initial_frequencies_hz: list[float | None] = Field(
+        description="Frequency of each target's paired mode at the starting values (Hz)")
+    errors: list[float | None] = Field(description="Relative error of each pair (-)")
+    success: bool = Field(description="Every target paired and within the tolerance")
+    tolerance: float = Field(description="Relative error accepted (-)")
+    n_evaluations: int = Field(description="FE evaluations the calibration took")
+    max_evaluations: int = Field(description="Its budget")
+    seconds: float = Field(description="Wall time of the calibration when it ran (s)")
+    element_size_m: float = Field(description="Element size it ran at (m)")
+    key: str = Field(description="Content key of the calibration in the FE cache")
+    from_cache: bool = Field(description="Loaded from the FE cache (no calibration ran)")
+
+
 class FEModelInfo(BaseModel):
     """What an FE export was built from."""
 
@@ -66,6 +106,9 @@ class FEModelInfo(BaseModel):
     build_seconds: float = Field(description="Time to build or load the body (s)")
     discretisation: FEDiscretisation | None = Field(
         None, description="The frequencies' expected discretisation error")
+    calibration: FECalibration | None = Field(
+        None, description="A car body calibrated at build time (calibration_targets): the "
+        "targets, the calibrated values and the pairing; absent for the default body")
 
 
 class FEExport(BaseModel):
@@ -89,7 +132,8 @@ class FEBuildStatus(BaseModel):
         description="queued: the build job waits for a worker; building: it runs")
     key: str = Field(description="Content key of the export")
     parameters: dict[str, Any] = Field(description="kind, reduction, cutoff_hz, "
-                                       "element_size_m, max_modes")
+                                       "element_size_m, max_modes; calibration (its "
+                                       "targets, variables, budget) for a calibrated car body")
     job_id: str | None = Field(None, description="The build job (kind fe_export): GET "
                                "/jobs/{id} follows it, POST /jobs/{id}/cancel cancels it")
     progress: float = Field(0.0, description="Fraction of the build done (0–1)")
@@ -97,22 +141,6 @@ class FEBuildStatus(BaseModel):
     retry_after_s: int = Field(description="Ask again after this many seconds "
                                "(also the Retry-After header)")
     message: str
-
-
-class FEPair(BaseModel):
-    """One calibration target and the model mode paired with it (``flexride fe calibrate``'s
-    rules: by type, then frequency; an optimal assignment over all targets).
-    """
-
-    target_hz: float = Field(description="Target frequency (Hz)")
-    target_type: str | None = Field(description="Wanted mode type; null: any")
-    label: str = Field(description="The target's name, or empty")
-    mode: int | None = Field(description="Paired elastic mode (1 = lowest); null: unpaired")
-    model_hz: float | None = Field(description="The paired mode's frequency (Hz)")
-    error: float | None = Field(description="Relative frequency error model/target − 1 (-)")
-    model_type: str | None = Field(description="The paired mode's type (the classifier's)")
-    mac: float | None = Field(description="MAC with the target's shape (none here: null)")
-    message: str = Field(description="Why the target is unpaired; empty when paired")
 
 
 class FEPairing(BaseModel):

@@ -10,7 +10,10 @@ inline only, FE bodies and recorded points within the service's limits; a run's 
 result size do not matter here). Bounded work:
 
 * a flexible body must already be in the FE cache (409 otherwise: the API never builds an FE
-  model; a job or ``GET /fe/{kind}`` builds it);
+  model; a job or ``GET /fe/{kind}`` builds it); a calibrated car body
+  (``bodies.carbody.calibration``) likewise: its calibration's outcome and the body of the
+  calibrated values (409 otherwise, naming ``GET /fe/carbody?calibration_targets=…``: a
+  calibration takes minutes and runs only in a job worker);
 * at most :data:`MAX_CONCURRENT` estimates compute at once per process (503 with
   ``Retry-After`` beyond), in the threadpool of the synchronous route;
 * an answer is a pure function of the scenario and the options, so rendered answers are kept
@@ -27,6 +30,7 @@ import json
 import math
 import threading
 from typing import Any
+from urllib.parse import quote
 
 import numpy as np
 from fastapi import Request, Response
@@ -115,18 +119,29 @@ def busy() -> Response:
 def missing_fe_bodies(scenario: Scenario) -> list[tuple[str, str, str]]:
     """The flexible bodies of ``scenario`` whose reduced FE model is not in the FE cache:
     ``(bodies field, kind, label)``. An entry counts only when it loads (what the assembly
-    would do before building one).
+    would do before building one); a calibrated car body (``bodies.carbody.calibration``)
+    needs its calibration's outcome and the body of the calibrated values, both looked up
+    by content key (milliseconds: no calibration runs here).
     """
     from flexride.fem import cache
     from flexride.fem.body_cache import vehicle_body_inputs
+    from flexride.fem.calibrated_body import cached_calibration
+    from flexride.fem.carbody import CarBodyParams
 
     out = []
     for fld, kind, label in _BODY_FIELDS:
         b = getattr(scenario.bodies, fld)
         if b.model != "flexible":
             continue
+        params: CarBodyParams | None = None
+        if b.calibration is not None:
+            done = cached_calibration(scenario.vehicle, b.calibration, b.element_size_m)
+            if done is None:
+                out.append((fld, kind, label))
+                continue
+            params = done.params
         inputs = vehicle_body_inputs(kind, scenario.vehicle, b.reduction, b.cutoff_hz,
-                                     b.element_size_m, None, None)
+                                     b.element_size_m, None, params)
         if cache.load(cache.content_hash(inputs)) is None:
             out.append((fld, kind, label))
     return out
@@ -139,12 +154,24 @@ def _check_fe(scenario: Scenario) -> None:
         return
     fld, kind, label = missing[0]
     b = getattr(scenario.bodies, fld)
+    query = (f"reduction={b.reduction}&cutoff_hz={b.cutoff_hz:g}"
+             f"&element_size_m={b.element_size_m:g}")
+    what = f"flexible {label}"
+    if b.calibration is not None:
+        cal = b.calibration
+        what = f"calibrated {label} (bodies.{fld}.calibration: {cal.targets_spelling()})"
+        query += (f"&calibration_targets={quote(cal.targets_spelling())}"
+                  f"&calibration_max_evaluations={cal.max_evaluations}")
+        if cal.variables is not None:
+            query += f"&calibration_variables={','.join(cal.variables)}"
+        if cal.n_modes is not None:
+            query += f"&calibration_n_modes={cal.n_modes}"
     raise Conflict(
-        f"the flexible {label} (bodies.{fld}: {b.reduction}, cut-off {b.cutoff_hz:g} Hz, "
+        f"the {what} (bodies.{fld}: {b.reduction}, cut-off {b.cutoff_hz:g} Hz, "
         f"elements {b.element_size_m:g} m) is not in the FE cache and estimates never build FE "
-        f"models: build it first — run a job of the scenario (POST {API_PREFIX}/jobs), or ask "
-        f"GET {API_PREFIX}/fe/{kind}?reduction={b.reduction}&cutoff_hz={b.cutoff_hz:g}"
-        f"&element_size_m={b.element_size_m:g} for a preset's vehicle — then ask again")
+        f"models (nor calibrate them): build it first — run a job of the scenario (POST "
+        f"{API_PREFIX}/jobs), or ask GET {API_PREFIX}/fe/{kind}?{query} for a preset's vehicle "
+        "— then ask again")
 
 
 def _admit(svc: Services, scenario: Scenario, parts: frozenset[str]) -> None:
