@@ -1,6 +1,7 @@
 // Study result: Sperling against speed per condition and point (paper Figs. 14, 17, 22), peak
 // acceleration against speed with the fitted line and R² (Fig. 21), flexible against rigid with
-// differences in percent (Table 2) and every job's indices; clicking a point opens its job.
+// differences in percent (Table 2) and every job's indices; clicking a point opens its job. A
+// study with an element-size axis adds its mesh convergence (issue 33, the paper's Fig. 4).
 
 import { api, cached } from "../api.js";
 import { h, setChildren, badge, progressBar, fmt, fixed, pct, errorBox, notice, loading, tabs, dataTable, when, DIRECTION_NAMES } from "../components/dom.js";
@@ -8,6 +9,7 @@ import { plotCard, loadPlotly } from "../components/plot.js";
 import { simpleSelect } from "../components/channels.js";
 import { loadPaperPoints, paperPoints, pointCatalogue, pointOrder, pointTag, pointText, pointsCard } from "../components/points.js";
 import { facetFigure, flexRigidFigure, facetPanels } from "../components/facets.js";
+import { meshSection } from "../components/meshconvergence.js";
 import { confirmButton, studyBarStatus } from "./jobs.js";
 import { go, replaceQuery } from "../components/nav.js";
 
@@ -109,6 +111,8 @@ export default async function render(main, ctx) {
 
   function buildView(st0) {
     const notesEl = h("div");
+    const meshEl = h("div");
+    let mesh = null; // the mesh-convergence section, made when the study has such tables
     const sectionsEl = h("div");
     const pointsBox = h("div");
     const state = { dir: ["z", "y"].includes(ctx.query.dir) ? ctx.query.dir : "both", points: null, frQ: "sperling", tablePoint: "" };
@@ -362,13 +366,19 @@ export default async function render(main, ctx) {
     };
     state.tab = ctx.query.tab || "sperling";
     setChildren(pointsBox, pointsCard(catalogue, { id: "points-card", open: false, note: "Positions appear when a job of the study has finished." }));
-    setChildren(body, notesEl, sectionsEl, pointsBox, t.el);
+    setChildren(body, notesEl, meshEl, sectionsEl, pointsBox, t.el);
     return {
       async update(next) {
         st = next;
         const notes = st.tables.notes || [];
         setChildren(notesEl, notes.length ? notice("info", null, h("ul", {}, notes.map((n) => h("li", {}, n)))) : null);
         setChildren(sectionsEl, sectionsCard(st.tables.sperling_vs_speed?.length ? st.tables.sperling_vs_speed : st.tables.peak_vs_speed || []));
+        const meshTables = st.tables.mesh_convergence || [];
+        if (meshTables.length) {
+          if (!mesh) mesh = meshSection();
+          if (!mesh.el.isConnected) setChildren(meshEl, mesh.el);
+          mesh.update(meshTables).catch((e) => console.warn(e));
+        } else setChildren(meshEl);
         await refreshCatalogue();
         drawAll().catch((e) => console.warn(e));
       },
