@@ -57,7 +57,12 @@ def test_python_example_runs(where, block, tmp_path, monkeypatch, capsys):
     printed = capsys.readouterr().out
     if "summary.to_json" in block:
         assert json.loads(printed[: printed.rindex("}") + 1])["run"]["sample_rate_hz"] == 1000.0
-    if "build_flexible_body" in block:
+    if "calibration=b.calibration" in block:  # the calibrated car body (docs/fem.md)
+        cal = ns["fb"].calibration
+        assert cal["n_evaluations"] == 6 and not cal["from_cache"]
+        assert "6.5 rhombic 2 6.492 -0.13 % rhombic" in printed
+        assert "5.59 first vertical bending 1 5.57 -0.36 %" in printed
+    elif "build_flexible_body" in block:
         cb = ns["cb"]
         shape = cb.shape_at((6.3, 0.95, 0.90 - cb.body.cg_height))
         assert shape.shape == (6, 113) and len(cb.floor_grid_nodes()[0]) == 95

@@ -86,6 +86,10 @@ export default async function render(main, ctx) {
   const state = { kind: ctx.query.kind === "frame" ? "frame" : "carbody", mode: 0, scale: 0, animate: false, mesh: null, wire: true, gci: new Map() };
   // model parameters from the address (as the scenario's bodies settings); the server's defaults otherwise
   const params = Object.fromEntries(MODEL_PARAMS.filter((k) => ctx.query[k]).map((k) => [k, ctx.query[k]]));
+  // the targets the car body is calibrated to before it is reduced (bodies.carbody.calibration; GET /fe/carbody?calibration_targets=…); "" the default body
+  let calibrateTo = ctx.query.calibrate || "";
+  /** The model's query: its parameters, with the calibration for the car body. */
+  const modelQuery = () => ({ ...params, ...(calibrateTo && state.kind === "carbody" ? { calibration_targets: calibrateTo } : {}), max_modes: MAX_MODES });
   let animLoop = null;
   let loadSeq = 0; // a newer load supersedes the polling of an older one
   const cleanups = [];
@@ -102,7 +106,7 @@ export default async function render(main, ctx) {
   const fileIn = h("input", { id: "mesh-file", type: "file", accept: ".json,application/json", class: "sr-only" });
   const kindSel = simpleSelect("mesh-kind", "Body", [["carbody", "car body"], ["frame", "bogie frame"]], state.kind, (v) => { state.kind = v; saveQuery(); loadFromService(); });
   function saveQuery() {
-    replaceQuery({ kind: state.kind, job: jobSel?.value || "", measure, ...params, targets: targetsIn.value.trim() });
+    replaceQuery({ kind: state.kind, job: jobSel?.value || "", measure, ...params, targets: targetsIn.value.trim(), calibrate: calibrateTo });
   }
 
   // model parameters (the scenario's bodies settings: same names, units and ranges)
@@ -116,6 +120,7 @@ export default async function render(main, ctx) {
     params.element_size_m = sizeIn.value;
     params.cutoff_hz = cutoffIn.value;
     params.reduction = reductionSel.value;
+    calibrateTo = ""; // "Build / load" is the default body; "Build calibrated" the calibrated one
     saveQuery();
     loadFromService();
   } },
@@ -142,10 +147,48 @@ export default async function render(main, ctx) {
   const targetsErr = h("span", { class: "field-error from-server", id: "fe-targets-err", "aria-live": "polite" });
   const pairingOut = h("div", { id: "fe-pairing", "aria-live": "polite" });
   const pairBtn = h("button", { type: "submit", class: "btn btn-small", id: "fe-pair" }, "Pair");
+  const calibrateBtn = h("button", { type: "button", class: "btn btn-small", id: "fe-calibrate", "aria-describedby": "fe-calibrate-help", onclick: () => buildCalibrated() }, "Build calibrated");
+  const calibrationOut = h("p", { class: "small muted", id: "fe-calibration", "aria-live": "polite" });
   const pairForm = h("form", { class: "stack", id: "fe-pairing-form", onsubmit: (e) => { e.preventDefault(); pairModes(); } },
     h("label", { for: "fe-targets" }, "Calibration targets (Hz[:type], …)", targetsIn, targetsErr),
     h("p", { class: "help", id: "fe-targets-help" }, "Each target is paired with one of the model's lowest modes: a typed target only with a mode of its type (as the classifier names it), an untyped one with the nearest free mode; as flexride fe calibrate pairs them."),
-    h("div", { class: "actions" }, pairBtn), pairingOut);
+    h("p", { class: "help", id: "fe-calibrate-help" }, "“Build calibrated” builds the car body calibrated to these targets (its panel sections and mass split updated so the paired modes meet them, as bodies.carbody.calibration does in a scenario): a job on the server, at most 30 FE evaluations (about 0.4 s each at 0.5 m elements, 5 s at 0.2 m), once per set of targets."),
+    h("div", { class: "actions" }, pairBtn, calibrateBtn), calibrationOut, pairingOut);
+
+  /** Build (or load) the car body calibrated to the targets typed in, then pair its modes. */
+  function buildCalibrated() {
+    targetsErr.textContent = "";
+    targetsIn.removeAttribute("aria-invalid");
+    const targets = targetsIn.value.trim();
+    if (!targets) {
+      targetsErr.textContent = "Type the targets to calibrate to, e.g. 6.5:rhombic,5.59:first vertical bending.";
+      targetsIn.setAttribute("aria-invalid", "true");
+      return;
+    }
+    calibrateTo = targets;
+    saveQuery();
+    loadFromService();
+  }
+
+  /** A 422 at one of the query's target parameters shown at the targets' field; true if so. */
+  function targetsError(err) {
+    const at = err.items?.find((i) => ["query.targets", "query.calibration_targets"].includes((i.loc || []).join(".")));
+    if (!at) return false;
+    targetsErr.textContent = at.msg;
+    targetsIn.setAttribute("aria-invalid", "true");
+    return true;
+  }
+
+  /** What the model block says about the car body's calibration (or that it is the default). */
+  function showCalibration(cal) {
+    if (!cal) {
+      calibrationOut.textContent = state.kind === "carbody" ? "The default car body (calibrated to paper Table 1 once, fem/defaults.py)." : "";
+      return;
+    }
+    const pairs = cal.pairs.map((p) => `${fmt(p.target_hz, 4)} Hz ${p.target_type || "any"} → mode ${p.mode} ${fmt(p.model_hz, 4)} Hz (${p.error >= 0 ? "+" : ""}${fixed(100 * p.error, 1)} %)`).join("; ");
+    const values = Object.entries(cal.values).map(([k, v]) => `${k} ${fmt(cal.initial[k], 4)} → ${fmt(v, 4)}`).join(", ");
+    calibrationOut.textContent = `Calibrated car body (to ${cal.targets}; ${cal.n_evaluations} of at most ${cal.max_evaluations} FE evaluations${cal.from_cache ? ", from the FE cache" : ""}; ${cal.success ? "all" : "not all"} within ±${fixed(100 * cal.tolerance, 0)} %): ${pairs}. Values: ${values}.`;
+  }
 
   /** The pairing of the service's model (by its parameters) with the targets typed in. */
   async function pairModes() {
@@ -159,7 +202,7 @@ export default async function render(main, ctx) {
     }
     setChildren(pairingOut, h("p", { class: "help" }, "Pairing…"));
     try {
-      const r = await api.fePairing({ ...params, max_modes: MAX_MODES, targets }, { signal: ctx.signal });
+      const r = await api.fePairing({ ...modelQuery(), targets }, { signal: ctx.signal });
       if (r.status === 202) {
         setChildren(pairingOut, h("p", { class: "help" }, "The model is being built; pair again once it is drawn."));
         return;
@@ -167,12 +210,8 @@ export default async function render(main, ctx) {
       showPairing(r.body);
     } catch (err) {
       if (ctx.signal.aborted) return;
-      const at = err.items?.find((i) => (i.loc || []).join(".") === "query.targets");
-      if (at) {
-        targetsErr.textContent = at.msg;
-        targetsIn.setAttribute("aria-invalid", "true");
-        setChildren(pairingOut);
-      } else setChildren(pairingOut, notice("error", "No pairing", err.message));
+      if (targetsError(err)) setChildren(pairingOut);
+      else setChildren(pairingOut, notice("error", "No pairing", err.message));
     }
   }
 
@@ -397,15 +436,17 @@ export default async function render(main, ctx) {
         jobBody = await flexibleSettingsOf(jobId, kind);
       } catch { /* no such job: the model by its parameters */ }
       if (seq !== loadSeq) return;
-      const label = jobBody ? `${KIND_LABEL[kind]} of job ${jobId.slice(0, 8)}` : KIND_LABEL[kind];
+      const calibrated = !jobBody && kind === "carbody" && !!calibrateTo;
+      const label = jobBody ? `${KIND_LABEL[kind]} of job ${jobId.slice(0, 8)}` : calibrated ? `calibrated ${KIND_LABEL[kind]}` : KIND_LABEL[kind];
       const fetcher = jobBody
         ? () => api.jobFeModel(jobId, kind, { max_modes: MAX_MODES }, { signal: ctx.signal })
-        : () => api.feModel(kind, { ...params, max_modes: MAX_MODES }, { signal: ctx.signal });
+        : () => api.feModel(kind, modelQuery(), { signal: ctx.signal });
       const m = await pollModel(fetcher, seq, label);
       if (m === null) return;
       const info = m.model || {};
       showParams(info, !!jobBody);
-      const src = jobBody ? `The flexible ${label}` : `The ${KIND_LABEL[kind]} model`;
+      const src = jobBody ? `The flexible ${label}` : `The ${label} model`;
+      showCalibration(info.calibration);
       const disc = info.discretisation;
       state.gci = new Map((disc?.modes || []).map((d) => [d.index, d.gci]));
       modelInfo.textContent = `${src}: ${info.reduction} reduction, cut-off ${fmt(info.cutoff_hz)} Hz, element size ${fmt(info.element_size_m)} m; ${info.n_elastic_modes} elastic modes retained.` +
@@ -414,12 +455,13 @@ export default async function render(main, ctx) {
       await useMesh(m, jobBody ? `Job ${jobId.slice(0, 8)} (flexible ${KIND_LABEL[kind]})` : `From the service (${KIND_LABEL[kind]})`);
       // the pairing is of models by their parameters (a job's body is fitted to its own vehicle)
       const pairable = !jobBody && kind === "carbody";
-      for (const el of [targetsIn, pairBtn]) el.disabled = !pairable;
+      for (const el of [targetsIn, pairBtn, calibrateBtn]) el.disabled = !pairable;
       if (!pairable) setChildren(pairingOut, h("p", { class: "help" }, "Pairing is for car-body models by their parameters (the classifier's mode types are the car body's): choose the car body and no job."));
       else if (targetsIn.value.trim()) pairModes();
     } catch (err) {
       if (seq !== loadSeq || ctx.signal.aborted) return;
-      card.error(err, "The FE model could not be loaded");
+      if (calibrateTo && targetsError(err)) calibrationOut.textContent = "";
+      card.error(err, calibrateTo ? "The calibrated FE model could not be built" : "The FE model could not be loaded");
       setChildren(meshMsg, notice("info", "A mesh file works too",
         h("p", {}, "Export one and load it with “Load mesh JSON…”:"), h("pre", { class: "mono" }, `flexride fe export ${kind} --out ${kind}.json`)));
       setChildren(modeList, h("p", { class: "help" }, "No mesh loaded."));

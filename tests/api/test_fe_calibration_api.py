@@ -101,7 +101,7 @@ def test_the_calibrated_build_reports_its_calibration_and_pairing(make_client, t
     r = client.get(f"{API}/fe/carbody/pairing", params={**QUERY, "targets": TARGETS})
     assert r.status_code == 200, r.text
     pairs = r.json()["pairs"]
-    assert [p["model_type"] for p in pairs][0] == "rhombic"
+    assert pairs[0]["model_type"] == "rhombic"
     assert r.json()["model"]["calibration"]["key"] == cal["key"]
     job = fe_jobs(client)[0]
     assert job.status == "succeeded" and json.loads(json.dumps(job.run_meta))

@@ -37,7 +37,7 @@ def _scenario(calibration, **body):
                                        **{f"bodies.carbody.{k}": v for k, v in body.items()}})
 
 
-# -- the schema ------------------------------------------------------------------------------------
+# -- the schema ---------------------------------------------------------------------------------
 
 
 def test_targets_are_typed_with_the_classifiers_names_in_either_spelling():
@@ -113,7 +113,7 @@ def test_the_export_spec_carries_the_calibration_and_keeps_the_default_key(vehic
         ExportSpec.create("frame", vehicle, BodyModel(model="flexible", calibration=cal))
 
 
-# -- the calibration at body-build time -------------------------------------------------------------
+# -- the calibration at body-build time ---------------------------------------------------------
 
 
 def test_a_calibrated_body_is_built_once_cached_and_moves_toward_the_targets(cache_dir,

@@ -521,6 +521,49 @@ def test_flexible_body_pairs_its_modes_with_calibration_targets(page, server, sh
     assert "twisting" in page.url  # the targets are kept in the address
 
 
+def test_flexible_body_builds_the_car_body_calibrated_to_the_targets(page, server, wait_plot,
+                                                                    coarse):
+    """"Build calibrated" asks for the car body calibrated to the targets typed in (GET
+    /fe/carbody?calibration_targets=…, a job on the server): the view says to what it was
+    calibrated and how well, and pairs the calibrated model's modes; the address keeps it; an
+    unknown type is refused at the targets' field."""
+    from urllib.parse import quote
+
+    page.console_log.allow(r"status of 422")  # the service refuses the unknown type
+    targets = "6.5:rhombic,5.59"
+    goto(page, f"/flex?element_size_m={coarse}&targets={quote(targets)}")
+    wait_plot(page, "#plot-mesh", timeout=180_000)
+    page.locator("#fe-pairing table tbody tr").first.wait_for(timeout=30_000)
+    assert "default car body" in page.locator("#fe-calibration").inner_text()
+    page.click("#fe-calibrate")
+    done = page.locator("#fe-calibration", has_text="Calibrated car body")
+    done.wait_for(timeout=240_000)
+    query = (f"element_size_m={coarse}&max_modes=12&calibration_targets={quote(targets)}")
+    model = server.api(f"/fe/carbody?{query}")["model"]
+    cal = model["calibration"]
+    text = done.inner_text()
+    assert f"to {cal['targets']}" in text and f"{cal['n_evaluations']} of at most 30" in text
+    for pair in cal["pairs"]:
+        assert f"mode {pair['mode']} {pair['model_hz']:.4g} Hz" in text
+    assert "calibrated car body model" in page.locator("#fe-model-info").inner_text()
+    assert "calibrate=" in page.url
+    # the pairing card shows the calibrated model's pairing
+    answer = server.api(f"/fe/carbody/pairing?{query}&targets={quote(targets)}")
+    assert answer["model"]["key"] == model["key"]
+    rows = page.locator("#fe-pairing table tbody tr")
+    page.wait_for_function(
+        "([sel, want]) => [...document.querySelectorAll(sel)].map((r) => r.cells[3]?.innerText)"
+        ".join('|') === want",
+        arg=["#fe-pairing table tbody tr",
+             "|".join(f"{p['model_hz']:.4g}" for p in answer["pairs"])], timeout=30_000)
+    assert rows.count() == len(answer["pairs"]) == 2
+    page.fill("#fe-targets", "5:twisting")
+    page.click("#fe-calibrate")
+    page.locator("#fe-targets-err").wait_for(state="visible")
+    assert "twisting" in page.locator("#fe-targets-err").inner_text()
+    assert page.get_attribute("#fe-targets", "aria-invalid") == "true"
+
+
 def test_flexible_body_of_a_job_is_that_jobs_model(page, server, wait_plot):
     job = server.api("/jobs", {"preset": "paper-random-straight-80", "reuse": False, "overrides": {
         "duration_s": 0.5, "distance_m": None, "bodies.carbody.model": "flexible",
