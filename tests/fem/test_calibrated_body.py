@@ -218,7 +218,8 @@ def test_the_cli_builds_the_calibrated_body_with_the_same_spelling(cache_dir, tm
 @pytest.mark.xfail(strict=True, reason=(
     "solver/assemble.py's _flexible does not pass bodies.carbody.calibration to "
     "build_flexible_body yet (one keyword: calibration=settings.calibration); a simulation "
-    "or estimate of a calibrated scenario runs the default car body until it does"))
+    "of a calibrated scenario runs the default car body until it does; then also set "
+    "api/services/estimates.py CALIBRATED_CARBODY_ESTIMATES = True"))
 def test_the_assembled_vehicle_of_a_calibrated_scenario_has_the_calibrated_car_body(
         cache_dir):
     from flexride.solver.assemble import vehicle_for
