@@ -180,3 +180,43 @@ def test_seeds_out_of_range_is_422_with_field_and_range(sqlite_client, seeds):
     assert item["loc"] == ["body", "seeds"], r.text
     if seeds != "many":
         assert ("1" if seeds == 0 else "20") in item["msg"]
+
+
+def test_mesh_convergence_preset_tables_and_the_fe_limit(sqlite_client, make_client):
+    """The paper's Fig. 4 as a study: 2 conditions x 6 car-body sizes, the tables from the
+    jobs' air-spring forces and frequencies, and sizes beyond the FE limit refused up front
+    with the smallest admissible size."""
+    c = sqlite_client
+    r = c.post(f"{API}/studies", json={"preset": "mesh-convergence", "overrides": QUICK})
+    assert r.status_code == 201, r.text
+    study = r.json()
+    axis = "bodies.carbody.element_size_m"
+    assert study["n_jobs"] == 12
+    assert sorted({j["axes"][axis] for j in study["jobs"]}) == [0.1, 0.15, 0.2, 0.3, 0.4, 0.5]
+    svc = services(c)
+    with svc.store.writing() as s, s.begin():
+        for j in svc.store.study_jobs(study["id"]):
+            h = j.axes[axis]
+            summary = _fake_summary(80.0, True)
+            summary["suspension"] = {"secondary.1L": {"z": {
+                "mean": 9e4, "rms_dynamic": 100.0 + 2000.0 * h**2,
+                "peak_dynamic": 300.0 + 6000.0 * h**2, "max_abs": 9.1e4}}}
+            meta = {"flexible_bodies": {"carbody": {"element_size_m": h,
+                                                    "elastic_frequencies_hz": [5.0 + h]}}}
+            s.execute(update(Job).where(Job.id == j.id).values(
+                status="succeeded", progress=1.0, summary=summary, run_meta=meta))
+    tables = c.get(f"{API}/studies/{study['id']}").json()["tables"]["mesh_convergence"]
+    assert [t["group"]["condition"] for t in tables] == ["smooth-straight", "random-straight"]
+    rows = {row["key"]: row for row in tables[0]["rows"]}
+    rms = rows["secondary.1L.z.rms_dynamic"]
+    assert rms["estimate"]["extrapolated"] == pytest.approx(100.0)
+    assert rms["at_reference"] == pytest.approx(0.8)  # 2000 * 0.2^2 / 100
+    assert rows["frequency.1"]["estimate"]["order"] == pytest.approx(1.0)
+    # the dynamic rms and peak grow; the largest value, the static 91 kN, does not
+    assert tables[0]["claim"]["grows"] == [2, 3] and tables[0]["claim"]["grows_holds"] is False
+    assert tables[0]["group"] == {"condition": "smooth-straight", "speed_kmh": 80.0,
+                                  "body_model": "flexible"}
+    small = make_client(max_fe_dofs=100_000)
+    r = small.post(f"{API}/studies", json={"preset": "mesh-convergence", "overrides": QUICK})
+    assert r.status_code == 422, r.text
+    assert "at least 0.11 m" in r.text and "element_size_m" in r.text

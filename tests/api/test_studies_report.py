@@ -19,7 +19,7 @@ from service.svc_testkit import make_settings, services, wait_for
 
 API = "/api/v1"
 TINY = ReportOptions(conditions=("random-straight", "settlement"), speeds=(50.0,), seeds=1,
-                     distance_scale=0.01, jobs=1,
+                     distance_scale=0.01, jobs=1, mesh_sizes=(),
                      overrides=(("bodies.carbody.element_size_m", 0.5),
                                 ("bodies.carbody.cutoff_hz", 30.0),
                                 ("bodies.frames.cutoff_hz", 30.0)))
@@ -31,12 +31,16 @@ def test_quick_report_study_has_the_plans_runs(client):
     assert r.status_code == 201, r.text
     st = r.json()
     plan = build_plan(ReportOptions(quick=True, seeds=2).checked())
-    assert st["n_jobs"] == len(plan) == 24  # 2 speeds × (2 random × 2 seeds + 2) × 2 bodies
+    # 2 speeds × (2 random × 2 seeds + 2) × 2 bodies, and Fig. 4's 2 tracks × 3 sizes
+    assert st["n_jobs"] == len(plan) == 24 + 6
     assert st["preset"] == "paper-report"
-    assert [a["name"] for a in st["axes"]] == ["condition", "speed_kmh", "body_model", "seed"]
+    assert [a["name"] for a in st["axes"]] == ["condition", "speed_kmh", "body_model", "seed",
+                                               "bodies.carbody.element_size_m"]
     for job, spec in zip(st["jobs"], plan, strict=True):
+        mesh = {} if spec.element_size_m is None else {
+            "bodies.carbody.element_size_m": spec.element_size_m}
         assert job["axes"] == {"condition": spec.condition, "speed_kmh": spec.speed_kmh,
-                               "body_model": spec.body, "seed": spec.seed or 1}
+                               "body_model": spec.body, "seed": spec.seed or 1, **mesh}
         record = services(client).store.get_job(job["id"])
         section = record.run_meta.get("section")
         if spec.window_m[0] > 0:  # the report's section, analysed by the worker too
@@ -45,7 +49,7 @@ def test_quick_report_study_has_the_plans_runs(client):
             assert section is None
         scen = client.get(f"{API}/jobs/{job['id']}/scenario").json()
         assert scen == spec.scenario().model_dump(mode="json") | {"name": scen["name"]}
-    assert st["report"]["state"] == "waiting" and "0 of 24" in st["report"]["message"]
+    assert st["report"]["state"] == "waiting" and "0 of 30" in st["report"]["message"]
     r = client.get(f"{API}/studies/{st['id']}/report")
     assert r.status_code == 409 and "not ready" in r.json()["message"]
     assert client.get(f"{API}/studies/{st['id']}/report/summary").status_code == 409

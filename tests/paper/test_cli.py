@@ -8,7 +8,7 @@ from typer.testing import CliRunner
 
 from flexride.cli import app
 from flexride.paper.claims import CLAIMS
-from paper.conftest import TINY_OVERRIDES
+from paper.conftest import TINY_MESH, TINY_OVERRIDES
 
 
 def _invoke(args: list[str]):
@@ -20,6 +20,7 @@ def _invoke(args: list[str]):
     (["--jobs", "0"], "--jobs"),
     (["--conditions", "tunnel"], "tunnel"),
     (["--speeds", "fast"], "--speeds"),
+    (["--mesh-sizes", "0.2"], "mesh sizes"),
 ])
 def test_user_errors_are_one_line_and_exit_code_2(tmp_path, args, words):
     r = _invoke(["-o", str(tmp_path / "r"), *args])
@@ -48,6 +49,8 @@ def test_report_through_the_cli_reuses_the_tiny_study(tiny_report, monkeypatch):
     monkeypatch.setattr(paper_report, "run_report", with_test_mesh)
     directory, _ = tiny_report
     r = _invoke(["-o", str(directory), "--conditions", "random-straight,settlement",
-                 "--speeds", "50", "--distance-scale", "0.01", "--jobs", "1"])
+                 "--speeds", "50", "--distance-scale", "0.01", "--jobs", "1",
+                 "--mesh-sizes", ",".join(str(h) for h in TINY_MESH)])
     assert r.exit_code == 0, r.output
-    assert "4 from the cache" in r.output and f"{len(CLAIMS)} claims" in r.output
+    # Table 3's 4 runs and the pre-calculation's 2 tracks x 3 meshes
+    assert "10 from the cache" in r.output and f"{len(CLAIMS)} claims" in r.output

@@ -11,11 +11,12 @@ from flexride.paper.record import window_results
 from flexride.results import Results
 from flexride.scenario.loading import resolve_scenario
 from flexride.store import Job, JobStore, ResultFiles, now
-from flexride.study.aggregate import study_tables, summary_value
+from flexride.study.aggregate import study_tables
 from flexride.study.expand import expand_study
 from flexride.study.run_job import JobContext, claim_and_run
 from flexride.study.scenarios import scenario_hash
 from flexride.study.sections import job_section
+from flexride.study.summary_values import summary_value
 from service.svc_testkit import make_settings
 
 HALF = 12.6 / 2 + 2.2 / 2  # paper vehicle: bogie spacing and wheelbase (m)

@@ -360,42 +360,97 @@ def convergence_cmd(
     kind: KindArg,
     sizes: Annotated[str, typer.Option(
         "--sizes", help="Element sizes in m, comma-separated, at least three (default: car "
-        "body 0.5,0.4,0.3,0.2; frame 0.2,0.1,0.05).", show_default=False)] = "",
+        "body 0.5,0.4,0.3,0.2 and with --response 0.5,0.4,0.3,0.2,0.15,0.1; frame "
+        "0.2,0.1,0.05).", show_default=False)] = "",
     n_modes: Annotated[int, typer.Option("--n-modes", min=1, max=60,
                                          help="Elastic modes of the finest mesh followed.")] = 8,
+    response: Annotated[bool, typer.Option(
+        "--response", help="Run the flexible vehicle at each size (the study preset "
+        "mesh-convergence: the paper's Fig. 4) and judge the air-spring forces, first "
+        "frequencies and comfort indices instead of the natural frequencies alone.")] = False,
+    conditions: Annotated[str, typer.Option(
+        "--conditions", help="With --response: conditions, comma-separated "
+        "(smooth-straight and the paper's).")] = "smooth-straight,random-straight",
+    speed: Annotated[float, typer.Option("--speed", min=1.0, max=400.0,
+                                         help="With --response: speed (km/h).")] = 80.0,
     as_json: JsonOpt = False,
     preset: PresetOpt = "paper-metro",
 ) -> None:
     """Natural frequencies against element size: each mode of the finest mesh followed to the
     coarser ones, with its observed order, extrapolated frequency and GCI (three finest).
     """
-    from flexride.fem.mesh_study import frequency_convergence
-
     body = _kind(kind)
-    default = "0.5,0.4,0.3,0.2" if body == "carbody" else "0.2,0.1,0.05"
+    default = ("0.5,0.4,0.3,0.2,0.15,0.1" if response else "0.5,0.4,0.3,0.2") \
+        if body == "carbody" else "0.2,0.1,0.05"
     try:
         values = [float(v) for v in (sizes or default).split(",") if v.strip()]
     except ValueError:
         _fail(f"--sizes must be numbers in m separated by commas, got {sizes!r}")
     try:
-        with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
-                      TextColumn("{task.fields[msg]}"), TimeElapsedColumn(), console=_err,
-                      transient=True, disable=as_json) as bar:
-            task = bar.add_task(f"{kind} meshes", total=len(set(values)), msg="")
-
-            def progress(done: int, total: int, size: float) -> None:
-                bar.update(task, completed=done, msg=f"{size:g} m done")
-
-            res = frequency_convergence(body, _vehicle(preset), values, n_modes, progress)
+        if response:
+            _response_convergence(body, values, conditions, speed, preset, as_json)
+        else:
+            _frequency_convergence(body, values, n_modes, preset, as_json)
     except FlexrideError as exc:
         _fail(str(exc))
+
+
+def _progress_bar(as_json: bool) -> Progress:
+    return Progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                    TextColumn("{task.fields[msg]}"), TimeElapsedColumn(), console=_err,
+                    transient=True, disable=as_json)
+
+
+def _frequency_convergence(body: Kind, sizes: list[float], n_modes: int, preset: str,
+                           as_json: bool) -> None:
+    from flexride.fem.mesh_study import frequency_convergence
+
+    with _progress_bar(as_json) as bar:
+        task = bar.add_task(f"{body} meshes", total=len(set(sizes)), msg="")
+
+        def progress(done: int, total: int, size: float) -> None:
+            bar.update(task, completed=done, msg=f"{size:g} m done")
+
+        res = frequency_convergence(body, _vehicle(preset), sizes, n_modes, progress)
     if as_json:
         _print_json(res.to_dict())
         return
     dofs = ", ".join(f"{m.element_size:g} m: {m.n_dof} DOFs {m.seconds:.1f} s"
                      for m in res.meshes)
-    _out.print(f"{kind} natural frequencies against element size ({dofs})", markup=False)
+    _out.print(f"{body} natural frequencies against element size ({dofs})", markup=False)
     _out.print(res.table(), markup=False)
+
+
+def _response_convergence(body: Kind, sizes: list[float], conditions: str, speed: float,
+                          preset: str, as_json: bool) -> None:
+    from flexride.study.aggregate import study_tables
+    from flexride.study.expand import expand_study
+    from flexride.study.local_run import run_plan
+    from flexride.study.mesh_convergence import study_request
+    from flexride.study.mesh_verdict import format_table
+
+    names = [c.strip() for c in conditions.split(",") if c.strip()]
+    request = study_request("carbody" if body == "carbody" else "frames", sizes, names, speed)
+    request["base"] = {"preset": preset}
+    plan = expand_study(request, max_jobs=200)
+    with _progress_bar(as_json) as bar:
+        task = bar.add_task("runs", total=len(plan.jobs), msg="")
+
+        def progress(i: int, n: int, fraction: float, message: str) -> None:
+            job = plan.jobs[i]
+            bar.update(task, completed=i + fraction, msg=f"{job.name}: {message}")
+
+        jobs = run_plan(plan, progress)
+    tables = study_tables(jobs)
+    if as_json:
+        _print_json({"request": request, "mesh_convergence": tables["mesh_convergence"],
+                     "notes": tables["notes"]})
+        return
+    for table in tables["mesh_convergence"]:
+        _out.print(format_table(table), markup=False)
+        _out.print("")
+    for note in tables["notes"]:
+        _err.print(f"note: {note}", markup=False)
 
 
 @fe_app.command("export")

@@ -79,6 +79,10 @@ def report(
         hidden=True, help="Comma-separated conditions of Table 3")] = None,
     min_eval_s: Annotated[float, typer.Option(
         "--min-eval-s", hidden=True, help="Shortest evaluated stretch (s)")] = 6.0,
+    mesh_sizes: Annotated[str | None, typer.Option(
+        "--mesh-sizes", help="Car-body element sizes (m) of the element-size pre-calculation "
+        "(Fig. 4), comma-separated, or 'none'; default 0.5,0.4,0.3,0.2,0.15,0.1 "
+        "(0.4,0.3,0.2 with --quick)")] = None,
 ) -> None:
     """Run the paper's study and write DIR/index.html (the report), DIR/summary.json (the
     claims and their verdicts) and DIR/report.json; run records are cached in DIR/runs.
@@ -87,7 +91,9 @@ def report(
 
     options = ReportOptions(quick=quick, seeds=seeds, jobs=jobs, distance_scale=distance_scale,
                             speeds=_floats(speeds, "--speeds"), conditions=_words(conditions),
-                            min_eval_s=min_eval_s)
+                            min_eval_s=min_eval_s,
+                            mesh_sizes=() if mesh_sizes == "none" else _floats(mesh_sizes,
+                                                                               "--mesh-sizes"))
     try:
         result = _run(output, options, quiet=not sys.stderr.isatty())
     except FlexrideError as exc:

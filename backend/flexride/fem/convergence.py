@@ -34,6 +34,10 @@ SAFETY_FACTOR = 1.25
 #: Safety factor of the GCI with two meshes and an assumed order (Roache, "Perspective: a
 #: method for uniform reporting of grid refinement studies", J. Fluids Eng. 116 (1994) 405).
 TWO_MESH_SAFETY_FACTOR = 3.0
+#: Order of the FE bodies' elements, assumed where only two meshes are known: the bilinear
+#: shells' (and the lower of the beams' orders), observed on the plate of
+#: tests/fem/test_convergence.py.
+ELEMENT_ORDER = 2.0
 #: Iterations and tolerance of the fixed-point solution for the order.
 _MAX_ITERATIONS = 200
 _ORDER_TOL = 1.0e-10

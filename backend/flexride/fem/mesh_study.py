@@ -19,16 +19,18 @@ from scipy.optimize import linear_sum_assignment
 
 from flexride.errors import FEModelError
 from flexride.fem.classify import classify_mode, classify_plane_frame_mode
-from flexride.fem.convergence import ConvergenceEstimate, three_mesh_estimate, two_mesh_estimate
+from flexride.fem.convergence import (
+    ELEMENT_ORDER,
+    ConvergenceEstimate,
+    three_mesh_estimate,
+    two_mesh_estimate,
+)
 from flexride.fem.eigen import free_free_modes
 from flexride.fem.frame import build_frame
 from flexride.fem.model import FEModel
 from flexride.fem.rigid import rigid_body_vectors
 from flexride.fem.vehicle_models import build_fe_model, frame_params_for, frame_target
 
-#: Order assumed for a build's own two-mesh estimate: the bilinear shells' (and the lower of
-#: the beams' orders), observed on the plate of tests/fem/test_convergence.py.
-ELEMENT_ORDER = 2.0
 #: Element size of a build's coarser companion, relative to the build's.
 COMPANION_RATIO = 1.5
 

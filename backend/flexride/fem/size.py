@@ -50,3 +50,23 @@ def estimated_dofs(kind: str, vehicle: Vehicle, element_size: float) -> int:
         return _exact_dofs(kind, key, float(element_size))
     n_ref = _exact_dofs(kind, key, REFERENCE_ELEMENT_SIZE_M)
     return round(n_ref * (REFERENCE_ELEMENT_SIZE_M / element_size) ** 2)
+
+
+def smallest_element_size(kind: str, vehicle: Vehicle, max_dofs: int) -> float | None:
+    """The smallest car-body element size (m, rounded up to the millimetre) whose estimated
+    degrees of freedom (:func:`estimated_dofs`) stay within ``max_dofs``; None for the frame
+    and when even the reference size :data:`REFERENCE_ELEMENT_SIZE_M` is beyond it (the
+    estimate below it is the square law, exact at the reference: so is this bound).
+    """
+    import math
+
+    if kind != "carbody":
+        return None
+    n_ref = _exact_dofs(kind, vehicle.model_dump_json(), REFERENCE_ELEMENT_SIZE_M)
+    if n_ref > max_dofs:
+        return None
+    h = REFERENCE_ELEMENT_SIZE_M * math.sqrt(n_ref / max_dofs)
+    h = math.ceil(h * 1000.0 - 1e-9) / 1000.0
+    while estimated_dofs(kind, vehicle, h) > max_dofs:  # rounding of the estimate
+        h += 0.001
+    return h

@@ -14,7 +14,7 @@ import numpy as np
 from flexride.paper import measures
 from flexride.paper.measures import Estimate, mean_ci
 from flexride.paper.reference import EXAMPLE_SPEED_KMH
-from flexride.study.aggregate import summary_value
+from flexride.study.summary_values import summary_value
 
 __all__ = ["NotComparable", "StudyData", "record_psd", "record_value"]
 
@@ -83,11 +83,18 @@ class StudyData:
     modal: dict[str, Any] | None = None
     _index: dict[tuple[str, float, str], list[dict[str, Any]]] = field(
         default_factory=dict, init=False, repr=False)
+    mesh_records: list[dict[str, Any]] = field(default_factory=list, init=False, repr=False)
+    """Records of the element-size pre-calculation (a ``spec.element_size_m``), plan order."""
 
     def __post_init__(self) -> None:
-        """Index the records by (condition, speed, body), seeds ascending."""
+        """Index the records by (condition, speed, body), seeds ascending; the element-size
+        pre-calculation's records apart (:attr:`mesh_records`).
+        """
         for rec in self.records:
             s = rec["spec"]
+            if s.get("element_size_m") is not None:
+                self.mesh_records.append(rec)
+                continue
             key = (s["condition"], float(s["speed_kmh"]), s["body"])
             self._index.setdefault(key, []).append(rec)
         for runs in self._index.values():

@@ -1,6 +1,7 @@
 """flexride's versions of the paper's figures as Plotly figure specifications (plain dicts of
 ``data`` and ``layout``), from the study's results: time histories and spectra at the paper's
-points, indices against speed, the PRB spectrogram and the cross-correlations.
+points, indices against speed, the PRB spectrogram and the cross-correlations, and the
+element-size pre-calculation (:mod:`flexride.paper.mesh`).
 
 Every figure is ``{"id", "title", "paper", "panels": [{"title", "data", "layout"}], "note"}``;
 a figure the study cannot draw (a condition not run) carries only its ``note``.
@@ -16,6 +17,7 @@ import numpy as np
 from flexride.paper.claims.common import CO, DIRS, FLEX, RC, RIGID, RS, SE, SIX, THREE
 from flexride.paper.data import NotComparable, StudyData, record_psd
 from flexride.paper.measures import line_fit
+from flexride.paper.mesh import fig4_panels
 from flexride.paper.plan import shortest_wavelength
 from flexride.paper.reference import (
     FIG10_PEAKS_HZ,
@@ -265,6 +267,8 @@ def _fig26(data: StudyData) -> list[dict[str, Any]]:
 
 
 _FIGURES: list[tuple[str, str, str, Callable[[StudyData], list[dict[str, Any]]]]] = [
+    ("fig4", "Secondary suspension force against the car body's element size "
+     "(extrapolated values dotted)", "Fig. 4", fig4_panels),
     ("table1", "Natural frequencies of the car body", "Table 1", _table1),
     ("fig6", "Car body accelerations at PC, rigid and flexible model", "Fig. 6",
      lambda d: _time_panels(d, RS, ("PC",), (RIGID, FLEX))),

@@ -35,9 +35,17 @@ from typing import Any
 from flexride.errors import FlexrideError
 from flexride.scenario.fidelity import shortest_wavelength as condition_wavelength
 from flexride.scenario.fidelity import sufficient_cutoff_hz
-from flexride.scenario.presets import PAPER_CONDITIONS, PAPER_SPEEDS_KMH, PAPER_VEHICLE
+from flexride.scenario.presets import (
+    PAPER_CONDITIONS,
+    PAPER_SPEEDS_KMH,
+    PAPER_VEHICLE,
+    SMOOTH_CONDITION,
+    STUDY_CONDITIONS,
+    load_condition,
+)
 from flexride.scenario.presets import load_preset as _load_preset
 from flexride.scenario.scenario import Scenario
+from flexride.study.presets import MESH_SIZES_M, MESH_SPEED_KMH
 from flexride.study.seeds import is_random, realisations, seed_overrides
 from flexride.track.spectra import RANDOM_FADE_IN_M
 
@@ -50,6 +58,7 @@ __all__ = [
     "RunSpec",
     "Section",
     "build_plan",
+    "mesh_plan",
     "section_of",
 ]
 
@@ -78,8 +87,15 @@ FULL_SEEDS = 5
 conditions is a mean with its 95 % confidence interval (at least five, as issue 14 asks)."""
 QUICK_SEEDS = 1
 """Realisations of the quick report (a first look in a few minutes)."""
-RECORD_VERSION = 1
-"""Version of the stored run record; part of every cache key."""
+MESH_CONDITIONS: tuple[str, ...] = (SMOOTH_CONDITION, "random-straight")
+"""Conditions of the element-size pre-calculation (§2.1, Fig. 4): the paper's smooth track, and
+the random straight track its comfort results are about (first realisation)."""
+QUICK_MESH_SIZES_M: tuple[float, ...] = (0.4, 0.3, 0.2)
+"""Car-body element sizes of the quick report's pre-calculation (m): the three finest of the full
+one's that cost no more than the 0.2 m body (:data:`flexride.study.presets.MESH_SIZES_M`)."""
+RECORD_VERSION = 2
+"""Version of the stored run record; part of every cache key (2: the air-spring forces and the
+flexible bodies' frequencies)."""
 
 
 class ReportError(FlexrideError):
@@ -116,6 +132,11 @@ class ReportOptions:
     overrides : tuple of (str, value)
         Dotted-path scenario overrides applied to every run. For tests only (e.g. a coarse FE
         mesh); the report lists them as a deviation from the paper's study.
+    mesh_sizes : tuple of float or None
+        Car-body element sizes (m) of the element-size pre-calculation (Fig. 4; runs of
+        :data:`MESH_CONDITIONS` at :data:`~flexride.study.presets.MESH_SPEED_KMH`); default
+        :data:`~flexride.study.presets.MESH_SIZES_M`, or :data:`QUICK_MESH_SIZES_M` with
+        ``quick``; empty: none.
     """
 
     quick: bool = False
@@ -126,6 +147,7 @@ class ReportOptions:
     conditions: tuple[str, ...] | None = None
     min_eval_s: float = MIN_EVAL_S
     overrides: tuple[tuple[str, Any], ...] = ()
+    mesh_sizes: tuple[float, ...] | None = None
 
     def seed_count(self) -> int:
         """Realisations per random condition: ``seeds``, or the default of the report's kind
@@ -161,7 +183,18 @@ class ReportOptions:
         return ReportOptions(quick=self.quick, seeds=seeds, jobs=jobs,
                              distance_scale=scale, speeds=tuple(sorted(speeds)),
                              conditions=tuple(c for c in CONDITIONS if c in conditions),
-                             min_eval_s=self.min_eval_s, overrides=tuple(self.overrides))
+                             min_eval_s=self.min_eval_s, overrides=tuple(self.overrides),
+                             mesh_sizes=self._mesh_sizes())
+
+    def _mesh_sizes(self) -> tuple[float, ...]:
+        sizes = self.mesh_sizes
+        if sizes is None:
+            sizes = QUICK_MESH_SIZES_M if self.quick else MESH_SIZES_M
+        if len(sizes) == 1 or len(set(sizes)) != len(sizes) or any(
+                not 0.05 <= h <= 1.0 for h in sizes):
+            raise ReportError("mesh sizes must be none or at least two distinct element sizes "
+                              f"in [0.05, 1] m, got {tuple(sizes)}")
+        return tuple(sorted((float(h) for h in sizes), reverse=True))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form (for the report header and ``report.json``)."""
@@ -173,7 +206,7 @@ class ReportOptions:
     def from_dict(cls, data: dict[str, Any]) -> ReportOptions:
         """The options of :meth:`to_dict`'s JSON form (a service study keeps them)."""
         d = dict(data)
-        for key in ("speeds", "conditions"):
+        for key in ("speeds", "conditions", "mesh_sizes"):
             if d.get(key) is not None:
                 d[key] = tuple(d[key])
         d["overrides"] = tuple((d.get("overrides") or {}).items())
@@ -202,6 +235,9 @@ class RunSpec:
         Highest elastic mode kept (flexible runs, Hz).
     overrides : tuple of (str, value)
         Test overrides (see :class:`ReportOptions`).
+    element_size_m : float or None
+        Car-body element size of a run of the element-size pre-calculation (m); None for the
+        runs of Table 3 (the scenario's size).
     """
 
     condition: str
@@ -212,12 +248,16 @@ class RunSpec:
     window_m: tuple[float, float]
     cutoff_hz: float | None = None
     overrides: tuple[tuple[str, Any], ...] = field(default=())
+    element_size_m: float | None = None
 
     @property
     def label(self) -> str:
-        """Short text, e.g. ``random-straight 80 km/h flexible seed 1``."""
+        """Short text, e.g. ``random-straight 80 km/h flexible seed 1`` (``… 0.3 m mesh`` in
+        the pre-calculation).
+        """
         seed = f" seed {self.seed}" if self.seed is not None else ""
-        return f"{self.condition} {self.speed_kmh:g} km/h {self.body}{seed}"
+        mesh = f" {self.element_size_m:g} m mesh" if self.element_size_m is not None else ""
+        return f"{self.condition} {self.speed_kmh:g} km/h {self.body}{seed}{mesh}"
 
     def scenario_overrides(self) -> dict[str, Any]:
         """Dotted-path overrides of the condition's 50 km/h preset that make this run."""
@@ -226,23 +266,29 @@ class RunSpec:
                     "speed_kmh": float(self.speed_kmh), "distance_m": float(self.distance_m),
                     "duration_s": None})
         if self.seed is not None:
-            out.update(seed_overrides(PAPER_CONDITIONS[self.condition][2], self.seed))
+            out.update(seed_overrides(STUDY_CONDITIONS[self.condition][2], self.seed))
         for part in ("carbody", "frames"):
             out[f"bodies.{part}.model"] = self.body
             if self.body == "flexible" and self.cutoff_hz is not None:
                 out[f"bodies.{part}.cutoff_hz"] = float(self.cutoff_hz)
+        if self.element_size_m is not None:
+            out["bodies.carbody.element_size_m"] = float(self.element_size_m)
         return out
 
     def scenario(self) -> Scenario:
         """The validated scenario of this run."""
-        return _load_preset(f"paper-{self.condition}-{PAPER_SPEEDS_KMH[0]}",
-                            self.scenario_overrides())
+        return load_condition(self.condition, PAPER_SPEEDS_KMH[0], self.scenario_overrides())
 
     def key(self) -> str:
-        """Cache key: hash of the scenario, the window and :data:`RECORD_VERSION`."""
-        text = json.dumps({"scenario": self.scenario().model_dump(mode="json"),
-                           "window_m": list(self.window_m), "version": RECORD_VERSION},
-                          sort_keys=True, default=str)
+        """Cache key: hash of the scenario, the window, :data:`RECORD_VERSION` and, for a run
+        of the pre-calculation, its element size (its record is its own even where the
+        scenario is that of a Table 3 run).
+        """
+        data = {"scenario": self.scenario().model_dump(mode="json"),
+                "window_m": list(self.window_m), "version": RECORD_VERSION}
+        if self.element_size_m is not None:
+            data["mesh"] = float(self.element_size_m)
+        text = json.dumps(data, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:32]
 
     def to_dict(self) -> dict[str, Any]:
@@ -342,7 +388,7 @@ def full_window(condition: str) -> tuple[float, float, float]:
     (start, end, min_end) : float
         Positions of the vehicle centre along the line (m).
     """
-    _, line, exc, distance = PAPER_CONDITIONS[condition]
+    _, line, exc, distance = STUDY_CONDITIONS[condition]
     sec = section_of(line, exc, float(distance), _half_extent())
     return sec.start_m, sec.end_m, sec.min_end_m
 
@@ -354,7 +400,7 @@ def run_window(condition: str, speed_kmh: float, scale: float,
     With ``scale`` = 1 the preset's run length is kept.
     """
     start, end, min_end = full_window(condition)
-    distance = float(PAPER_CONDITIONS[condition][3])
+    distance = float(STUDY_CONDITIONS[condition][3])
     if scale >= 1.0:
         return distance, (start, end)
     length = end - start
@@ -403,4 +449,23 @@ def build_plan(options: ReportOptions) -> list[RunSpec]:
                     specs.append(RunSpec(cond, float(v), body, seed, distance, window,
                                          cutoff if body == "flexible" else None,
                                          options.overrides))
+    return specs + mesh_plan(options)
+
+
+def mesh_plan(options: ReportOptions) -> list[RunSpec]:
+    """The runs of the element-size pre-calculation (§2.1, Fig. 4): the flexible vehicle at
+    :data:`~flexride.study.presets.MESH_SPEED_KMH` on each of :data:`MESH_CONDITIONS` (the
+    random one's first realisation) with the car body at each of ``options.mesh_sizes``, modes
+    to the random straight track's cut-off (the same model on both tracks), in condition, size
+    (coarse to fine) order.
+    """
+    scale = options.distance_scale or 1.0
+    cutoff = flexible_cutoff("random-straight", (MESH_SPEED_KMH,), _base_cutoff(options.overrides))
+    specs = []
+    for cond in MESH_CONDITIONS:
+        distance, window = run_window(cond, MESH_SPEED_KMH, scale, options.min_eval_s)
+        seed = 1 if is_random(STUDY_CONDITIONS[cond][2]) else None
+        specs += [RunSpec(cond, MESH_SPEED_KMH, "flexible", seed, distance, window, cutoff,
+                          options.overrides, element_size_m=h)
+                  for h in options.mesh_sizes or ()]
     return specs

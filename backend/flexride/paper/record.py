@@ -14,6 +14,7 @@ import numpy as np
 from scipy import signal
 
 from flexride.analysis import analyze
+from flexride.analysis._common import jsonable
 from flexride.analysis.summary import Summary
 from flexride.errors import AnalysisError
 from flexride.paper.plan import RECORD_VERSION, RunSpec
@@ -147,7 +148,8 @@ def compact_record(spec: RunSpec, summary: Summary, window: Results,
         "run": {"wall_time_s": wall_time_s, "sample_rate_hz": float(window.sample_rate),
                 "window_s": [float(window.time[0]), float(window.time[-1])],
                 "n_samples": int(window.time.size), "dt": meta.get("dt"),
-                "n_dof": meta.get("n_dof")},
+                "n_dof": meta.get("n_dof"),
+                "flexible_bodies": jsonable(meta.get("flexible_bodies") or {})},
         "summary": _prune(summary.to_dict()),
         "psd": _psd(summary),
         "series": _series(window),

@@ -90,13 +90,15 @@ def prepare_bodies(specs: Sequence[RunSpec], progress: Progress | None = None) -
     """
     from flexride.solver.assemble import vehicle_for
 
-    seen: set[float | None] = set()
+    seen: set[tuple[float | None, float | None]] = set()
     for spec in specs:
-        if spec.body != "flexible" or spec.cutoff_hz in seen:
+        body = (spec.cutoff_hz, spec.element_size_m)
+        if spec.body != "flexible" or body in seen:
             continue
-        seen.add(spec.cutoff_hz)
+        seen.add(body)
         if progress is not None:
-            progress(f"flexible car body and frames, modes to {spec.cutoff_hz:g} Hz "
+            mesh = "" if spec.element_size_m is None else f", {spec.element_size_m:g} m mesh"
+            progress(f"flexible car body and frames, modes to {spec.cutoff_hz:g} Hz{mesh} "
                      "(built once, then cached)", 0, 0)
         vehicle_for(spec.scenario())
 

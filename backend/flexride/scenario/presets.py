@@ -123,6 +123,24 @@ PAPER_CONDITIONS: dict[str, tuple[str, dict[str, Any], list[dict[str, Any]], flo
 }
 
 
+SMOOTH_CONDITION = "smooth-straight"
+"""The condition of the paper's element-size pre-calculation (§2.1, Fig. 4)."""
+
+# the paper's conditions outside Table 3: same form as PAPER_CONDITIONS
+PRECALCULATION_CONDITIONS: dict[str, tuple[str, dict[str, Any], list[dict[str, Any]], float]] = {
+    SMOOTH_CONDITION: (
+        "Smooth straight track, no irregularity (the paper's element-size pre-calculation, "
+        "section 2.1, Fig. 4)",
+        {"kind": "straight"},
+        [],
+        400.0,
+    ),
+}
+
+STUDY_CONDITIONS = {**PAPER_CONDITIONS, **PRECALCULATION_CONDITIONS}
+"""Every named condition a study or the paper report may use."""
+
+
 def paper_metro(**top_level: Any) -> dict[str, Any]:
     """The ``paper-metro`` base scenario as a dict (straight, smooth track, 80 km/h, 10 s)."""
     data: dict[str, Any] = {
@@ -141,11 +159,12 @@ def paper_metro(**top_level: Any) -> dict[str, Any]:
     return data
 
 
-def _paper_condition(key: str, speed: int) -> dict[str, Any]:
-    desc, line, exc, distance = PAPER_CONDITIONS[key]
+def _paper_condition(key: str, speed: float) -> dict[str, Any]:
+    desc, line, exc, distance = STUDY_CONDITIONS[key]
+    table = "Paper Table 3" if key in PAPER_CONDITIONS else "Paper"
     return paper_metro(
-        name=f"paper-{key}-{speed}",
-        description=f"Paper Table 3: {desc}, {speed} km/h",
+        name=f"paper-{key}-{speed:g}",
+        description=f"{table}: {desc}, {speed:g} km/h",
         line=line,
         excitation=exc,
         speed_kmh=float(speed),
@@ -192,3 +211,21 @@ def preset_dict(name: str, overrides: dict[str, Any] | None = None) -> dict[str,
 def load_preset(name: str, overrides: dict[str, Any] | None = None) -> Scenario:
     """Validated :class:`Scenario` of preset ``name`` with optional dotted-path overrides."""
     return scenario_from_dict(preset_dict(name, overrides), source=f"preset {name}")
+
+
+def load_condition(key: str, speed_kmh: float, overrides: dict[str, Any] | None = None
+                   ) -> Scenario:
+    """The paper vehicle on condition ``key`` of :data:`STUDY_CONDITIONS` at ``speed_kmh``
+    (km/h), with optional dotted-path overrides: the preset ``paper-<key>-<speed>`` for
+    Table 3's conditions and speeds, and the same construction for the others.
+
+    Raises
+    ------
+    UnknownPresetError
+        Unknown condition.
+    """
+    if key not in STUDY_CONDITIONS:
+        raise UnknownPresetError(f"unknown condition {key!r}; available: "
+                                 f"{', '.join(STUDY_CONDITIONS)}")
+    data = apply_overrides(_paper_condition(key, float(speed_kmh)), overrides or {})
+    return scenario_from_dict(data, source=f"condition {key} at {speed_kmh:g} km/h")

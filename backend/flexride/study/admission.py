@@ -136,7 +136,7 @@ def check_fe_build(kind: str, vehicle: Vehicle, element_size_m: float, cutoff_hz
     """Refuse an FE body of ``kind`` beyond ``limits`` (cut-off, estimated degrees of freedom);
     ``loc`` is the path of the body's settings in the request.
     """
-    from flexride.fem.size import estimated_dofs
+    from flexride.fem.size import estimated_dofs, smallest_element_size
 
     if cutoff_hz > limits.max_fe_cutoff_hz:
         _refuse([ErrorItem((*loc, "cutoff_hz"),
@@ -144,10 +144,12 @@ def check_fe_build(kind: str, vehicle: Vehicle, element_size_m: float, cutoff_hz
                            f"{limits.max_fe_cutoff_hz:g} Hz (FLEXRIDE_MAX_FE_CUTOFF_HZ)")])
     dofs = estimated_dofs(kind, vehicle, element_size_m)
     if dofs > limits.max_fe_dofs:
+        smallest = smallest_element_size(kind, vehicle, limits.max_fe_dofs)
+        larger = f" of at least {smallest:g} m" if smallest is not None else ""
         _refuse([ErrorItem((*loc, "element_size_m"),
                            f"element size {element_size_m:g} m gives about {dofs:,} degrees of "
                            f"freedom, beyond the service's limit of {limits.max_fe_dofs:,} "
-                           "(FLEXRIDE_MAX_FE_DOFS); use a larger element size")])
+                           f"(FLEXRIDE_MAX_FE_DOFS); use a larger element size{larger}")])
 
 
 def check_bodies(scenario: Scenario, limits: Limits) -> None:

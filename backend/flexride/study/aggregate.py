@@ -7,7 +7,10 @@ The summaries are those of :meth:`flexride.analysis.Summary.to_dict`:
 * ``peak_vs_speed`` — largest |acceleration| against speed with its least-squares line and R²
   (the paper's Fig. 21);
 * ``flexible_vs_rigid`` — per case, point and direction: Sperling index, ISO weighted rms,
-  rms and peak of the flexible and the rigid model, their difference and ratio (Table 2).
+  rms and peak of the flexible and the rigid model, their difference and ratio (Table 2);
+* ``mesh_convergence`` — for a study with an element-size axis: each quantity (air-spring
+  forces, elastic frequencies, comfort indices) against element size with its convergence
+  estimate and the paper's Fig. 4 claim judged (:mod:`flexride.study.mesh_convergence`).
 
 Each job's indices are those of its evaluated section (``summary["section"]``,
 :mod:`flexride.study.sections`) where it has one, else of the whole run; every row states it
@@ -28,36 +31,12 @@ from typing import Any
 
 from flexride.analysis import linear_regression
 from flexride.errors import AnalysisError
+from flexride.study.mesh_convergence import mesh_convergence_tables
 from flexride.study.seeds import SEED_AXIS
+from flexride.study.summary_values import summary_value
 
-_FIRST_WEIGHTING = {"z": "Wb", "y": "Wd", "x": "Wd"}
 _UNITS = {"sperling": "-", "peak": "m/s^2", "rms": "m/s^2", "a_w": "m/s^2"}
 _COMPARED = ("sperling", "a_w", "rms", "peak")
-
-
-def summary_value(summary: dict[str, Any] | None, point: str, direction: str,
-                  quantity: str) -> float | None:
-    """One number of a summary dict: ``sperling``, ``peak`` (max |a|), ``rms`` or ``a_w``
-    (ISO 2631 weighted rms, Wb for z, Wd for y); None when absent.
-    """
-    try:
-        d = summary["points"][point]["directions"][direction]  # type: ignore[index]
-        if quantity == "sperling":
-            v = d["sperling"]["value"] if d.get("sperling") else None
-        elif quantity == "peak":
-            v = d["peaks"]["max_abs"]
-        elif quantity == "rms":
-            v = d["peaks"]["rms"]
-        elif quantity == "a_w":
-            v = d["iso2631"][_FIRST_WEIGHTING[direction]]["a_w"]
-        else:
-            raise ValueError(f"unknown quantity {quantity!r}")
-    except (KeyError, TypeError):
-        return None
-    if v is None:
-        return None
-    v = float(v)
-    return v if math.isfinite(v) else None
 
 
 def _points(summaries: Sequence[dict[str, Any]]) -> list[tuple[str, str]]:
@@ -77,7 +56,7 @@ def _estimate(values: Sequence[float | None]) -> tuple[float | None, float | Non
     """Mean, 95 % CI half width (None for fewer than two values) and count of the values
     that are not None (None, None, 0 when there are none).
     """
-    # imported here: flexride.paper's report reads summary_value from this module
+    # imported here: flexride.paper imports flexride.study (plan: the seeds' rule)
     from flexride.paper.measures import mean_ci
 
     present = [v for v in values if v is not None]
@@ -211,13 +190,16 @@ def study_tables(jobs: Sequence[dict[str, Any]]) -> dict[str, Any]:
     ----------
     jobs : sequence of dict
         One per job: ``id``, ``axes`` (axis name → value), ``speed_kmh``, ``status`` and
-        ``summary`` (the analysis summary dict, or None). Jobs that did not succeed or have no
-        usable summary are left out (named in ``notes``).
+        ``summary`` (the analysis summary dict, or None), and ``run_meta`` (the run's
+        metadata, optional: the mesh tables read the flexible bodies' frequencies from it).
+        Jobs that did not succeed or have no usable summary are left out (named in ``notes``).
 
     Returns
     -------
     dict
-        ``sperling_vs_speed``, ``peak_vs_speed``, ``flexible_vs_rigid`` and ``notes``.
+        ``sperling_vs_speed``, ``peak_vs_speed``, ``flexible_vs_rigid``, ``mesh_convergence``
+        (:func:`flexride.study.mesh_convergence.mesh_convergence_tables`: studies with an
+        element-size axis) and ``notes``.
     """
     usable, notes = [], []
     for j in jobs:
@@ -241,5 +223,6 @@ def study_tables(jobs: Sequence[dict[str, Any]]) -> dict[str, Any]:
         "sperling_vs_speed": _speed_series(usable, "sperling", with_fit=False),
         "peak_vs_speed": _speed_series(usable, "peak", with_fit=True),
         "flexible_vs_rigid": _flex_rigid(usable),
+        "mesh_convergence": mesh_convergence_tables(usable),
         "notes": notes,
     }

@@ -20,7 +20,7 @@ from typing import Any
 from flexride.errors import ScenarioError
 from flexride.scenario.fidelity import DEFAULT_CUTOFF_RULE, required_cutoffs, with_cutoffs
 from flexride.scenario.loading import safe_overrides
-from flexride.scenario.presets import PAPER_CONDITIONS, preset_dict
+from flexride.scenario.presets import STUDY_CONDITIONS, preset_dict
 from flexride.scenario.scenario import Scenario, resolve_preset_base, scenario_from_dict
 from flexride.study.presets import study_preset
 from flexride.study.sections import DEFAULT_SECTION_RULE, job_section
@@ -95,12 +95,12 @@ def merge_with_preset(request: dict[str, Any]) -> dict[str, Any]:
 
 def _condition_level(i: int, cond: Any) -> Level:
     if isinstance(cond, str):
-        if cond not in PAPER_CONDITIONS:
+        if cond not in STUDY_CONDITIONS:
             raise ScenarioError(
                 f"conditions.{i}: unknown condition {cond!r}; paper conditions: "
-                f"{', '.join(PAPER_CONDITIONS)} (or give {{name, set}})"
+                f"{', '.join(STUDY_CONDITIONS)} (or give {{name, set}})"
             )
-        _, line, exc, distance = PAPER_CONDITIONS[cond]
+        _, line, exc, distance = STUDY_CONDITIONS[cond]
         return Level(cond, {"line": line, "excitation": exc, "distance_m": distance,
                             "duration_s": None})
     return Level(cond["name"], dict(cond.get("set") or {}))

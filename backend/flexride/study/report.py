@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 from flexride.errors import FlexrideError, ScenarioError, SimulationCancelled
 from flexride.paper.plan import ReportError, ReportOptions, RunSpec, build_plan
 from flexride.study.expand import Axis, Level, PlannedJob, StudyPlan, StudyTooLarge
+from flexride.study.mesh_convergence import CARBODY_MESH_AXIS as MESH_AXIS
 from flexride.study.seeds import SEED_AXIS
 
 if TYPE_CHECKING:
@@ -82,10 +83,25 @@ def _axes(specs: list[RunSpec]) -> list[Axis]:
     def axis(name: str, values: list[Any]) -> Axis:
         return Axis(name, [Level(v, {}) for v in dict.fromkeys(values)])
 
-    return [axis("condition", [s.condition for s in specs]),
+    axes = [axis("condition", [s.condition for s in specs]),
             axis("speed_kmh", sorted(s.speed_kmh for s in specs)),
             axis("body_model", [s.body for s in specs]),
             axis(SEED_AXIS, sorted(s.seed or 1 for s in specs))]
+    sizes = [s.element_size_m for s in specs if s.element_size_m is not None]
+    if sizes:
+        axes.append(axis(MESH_AXIS, sorted(sizes)))
+    return axes
+
+
+def _job_axes(spec: RunSpec) -> dict[str, Any]:
+    """A run's values of the study's axes (the pre-calculation's runs with their element
+    size, so the study's tables show them against it).
+    """
+    axes: dict[str, Any] = {"condition": spec.condition, "speed_kmh": spec.speed_kmh,
+                            "body_model": spec.body, SEED_AXIS: spec.seed or 1}
+    if spec.element_size_m is not None:
+        axes[MESH_AXIS] = spec.element_size_m
+    return axes
 
 
 def _section(spec: RunSpec) -> dict[str, Any] | None:
@@ -120,9 +136,7 @@ def expand_report(request: dict[str, Any], max_jobs: int) -> StudyPlan:
         raise StudyTooLarge(f"study: the paper report with seeds = {options.seed_count()} makes "
                             f"{len(specs)} jobs; at most {max_jobs} are allowed "
                             "(FLEXRIDE_MAX_STUDY_JOBS)")
-    jobs = [PlannedJob(index=i, name=s.label, scenario=s.scenario(),
-                       axes={"condition": s.condition, "speed_kmh": s.speed_kmh,
-                             "body_model": s.body, SEED_AXIS: s.seed or 1},
+    jobs = [PlannedJob(index=i, name=s.label, scenario=s.scenario(), axes=_job_axes(s),
                        section=_section(s))
             for i, s in enumerate(specs)]
     quick = " (quick)" if options.quick else ""

@@ -256,13 +256,13 @@ def _failure(exc: BaseException, origin: str) -> dict[str, Any]:
 
 def run_simulation(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
     """A ``simulation`` job: simulate its scenario, write the results file, analyse them."""
-    from flexride.analysis import analyze
     from flexride.analysis._common import jsonable
     from flexride.results import run_timings
     from flexride.scenario.scenario import scenario_from_dict
     from flexride.solver import simulate
     from flexride.store.probe import dir_problem
     from flexride.store.uploads import UploadStore
+    from flexride.study.sections import job_summary
 
     scenario = scenario_from_dict(job.scenario, source=f"job {job.id}")
     problem = dir_problem(ctx.files.root)
@@ -277,32 +277,13 @@ def run_simulation(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:
     results.write_hdf5(ctx.files.path(name))
     t_analyze = time.perf_counter()
     section = (job.run_meta or {}).get("section")
-    try:
-        summary: dict[str, Any] = analyze(results).to_dict()
-        if section:
-            summary["section"] = _section_summary(results, section)
-    except FlexrideError as exc:
-        summary = {"error": f"{type(exc).__name__}: {exc}"}
+    summary = job_summary(results, section)
     meta = jsonable(results.meta)
     if section:
         meta["section"] = section
     meta["timings"] = run_timings(results.meta, t_analyze - t_write,
                                   time.perf_counter() - t_analyze)
     return Outcome({"summary": summary, "result_file": name, "run_meta": meta}, written=name)
-
-
-def _section_summary(results: Any, section: dict[str, Any]) -> dict[str, Any]:
-    """The section's own analysis (``{**section, "summary"}``) of a study job
-    (:mod:`flexride.study.sections`), cut as the paper report cuts its runs.
-    """
-    from flexride.analysis import analyze
-    from flexride.paper.record import window_results
-
-    try:
-        part = window_results(results, (float(section["start_m"]), float(section["end_m"])))
-        return {**section, "summary": analyze(part).to_dict()}
-    except FlexrideError as exc:  # the whole run's indices stand; the tables use them
-        return {**section, "error": f"{type(exc).__name__}: {exc}"}
 
 
 def run_fe_export(job: Job, ctx: JobContext, rep: Reporter) -> Outcome:

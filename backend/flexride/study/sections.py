@@ -14,7 +14,8 @@ from typing import Any, Literal
 
 from flexride.scenario.scenario import Scenario
 
-__all__ = ["DEFAULT_SECTION_RULE", "SECTION_RULE_LABELS", "SectionRule", "job_section"]
+__all__ = ["DEFAULT_SECTION_RULE", "SECTION_RULE_LABELS", "SectionRule", "job_section",
+           "job_summary"]
 
 SectionRule = Literal["paper", "curve", "run"]
 """``paper``: the report's sections (the arc on a curve); ``curve``: the same but the whole
@@ -58,3 +59,30 @@ def job_section(scenario: Scenario, rule: str = DEFAULT_SECTION_RULE) -> dict[st
         return None
     return {"rule": sec.rule, "start_m": start, "end_m": end,
             "label": type(sec)(start, end, start, sec.rule).label()}
+
+
+def job_summary(results: Any, section: dict[str, Any] | None) -> dict[str, Any]:
+    """The summary a study job stores: the whole run's analysis
+    (:meth:`flexride.analysis.Summary.to_dict`) with, given a ``section``
+    (:func:`job_section`), that section's own analysis as ``summary["section"]``
+    (``{**section, "summary"}``), cut as the paper report cuts its runs.
+
+    An analysis that fails on input (:class:`~flexride.errors.FlexrideError`) is stated, not
+    raised: ``{"error": "<type>: <text>"}`` for the whole run, ``{**section, "error"}`` for the
+    section (the whole run's indices stand; the tables use them).
+    """
+    from flexride.analysis import analyze
+    from flexride.errors import FlexrideError
+    from flexride.paper.record import window_results
+
+    try:
+        summary: dict[str, Any] = analyze(results).to_dict()
+    except FlexrideError as exc:
+        return {"error": f"{type(exc).__name__}: {exc}"}
+    if section:
+        try:
+            part = window_results(results, (float(section["start_m"]), float(section["end_m"])))
+            summary["section"] = {**section, "summary": analyze(part).to_dict()}
+        except FlexrideError as exc:
+            summary["section"] = {**section, "error": f"{type(exc).__name__}: {exc}"}
+    return summary

@@ -207,12 +207,92 @@ class FlexRigidRow(BaseModel):
     flexible_job: str = Field(description="Flexible job of the first realisation")
 
 
+class ConvergenceEstimateOut(BaseModel):
+    """A quantity's discretisation estimate from its finest meshes (Celik et al. 2008; two
+    meshes: Roache 1994 at the elements' order).
+    """
+
+    sizes_m: list[float] = Field(description="Element sizes used, fine to coarse (m)")
+    values: list[float] = Field(description="The quantity on them (the row's unit)")
+    order: float | None = Field(description="Observed order of convergence (-), or the "
+                                "assumed one (order_assumed)")
+    order_assumed: bool = Field(description="Two meshes only: the order is the elements' 2")
+    extrapolated: float | None = Field(description="Richardson-extrapolated value")
+    gci_fine: float | None = Field(description="Grid convergence index of the finest mesh (-, "
+                                   "relative)")
+    error_fine: float | None = Field(description="Finest value against the extrapolated (-)")
+    oscillatory: bool = Field(description="The differences change sign: the spread, not an "
+                              "asymptote, bounds the error")
+    reliable: bool = Field(description="The extrapolation can be used: two meshes, or three "
+                           "converging monotonically at an order of at least 0.5")
+    converged: float | None = Field(description="Best estimate of the converged value: the "
+                                    "extrapolated one where reliable, else the finest mesh's")
+    band: float | None = Field(description="Its relative uncertainty (-): the GCI where "
+                               "reliable, else the spread of the fine meshes")
+    deviation: list[list[float | None]] = Field(
+        description="[element size (m), relative distance from the converged estimate (-)] "
+        "for every mesh, fine to coarse")
+
+
+class MeshConvergenceRow(BaseModel):
+    """One quantity against element size."""
+
+    key: str = Field(description="e.g. secondary.1L.z.rms_dynamic, frequency.1, PC.z.sperling")
+    group: Literal["force", "frequency", "comfort"]
+    label: str
+    unit: str
+    values: list[float | None] = Field(description="Per element size (sizes_m): the mean "
+                                       "over the realisations")
+    estimate: ConvergenceEstimateOut | None
+    at_reference: float | None = Field(description="The reference mesh's relative distance "
+                                       "from the converged estimate (-)")
+    negligible: str | None = Field(None, description="Why the row is below the resolution and "
+                                   "not judged (null: judged)")
+
+
+class MeshClaimOut(BaseModel):
+    """The paper's Fig. 4 claim judged on one table's rows above the resolution."""
+
+    grows: list[int] = Field(description="[force rows growing with element size from the "
+                             "reference size on, force rows judged]")
+    grows_holds: bool | None = Field(description="Every judged force row grows (null: none "
+                                     "judged)")
+    coarsest_over_reference: float | None = Field(description="Largest ratio of the coarsest "
+                                                  "mesh's force to the reference's (-)")
+    reference_within: dict[str, float | None] = Field(
+        description="Largest |distance| of the reference mesh from the converged estimates "
+        "(-): force rows and all judged rows")
+    adequate: bool | None = Field(description="The reference mesh within 5 % for every judged "
+                                  "row (null: not judged)")
+    negligible: list[str] = Field(default_factory=list, description="Keys of the rows below "
+                                  "the resolution")
+    text: str
+
+
+class MeshConvergenceTable(BaseModel):
+    """A study's quantities against one body's element size, for one group of the other axes
+    (the paper's element-size pre-calculation, Fig. 4).
+    """
+
+    body: Literal["carbody", "frames"]
+    axis: str = Field(description="The element-size axis")
+    group: dict[str, Any] = Field(description="The other axes' values")
+    sizes_m: list[float] = Field(description="Element sizes, fine to coarse (m)")
+    realisations: list[int] = Field(description="Jobs averaged per size")
+    reference_size_m: float = Field(description="The size judged (the paper's 0.2 m)")
+    rows: list[MeshConvergenceRow]
+    claim: MeshClaimOut
+
+
 class StudyTables(BaseModel):
     """Study results ready to plot."""
 
     sperling_vs_speed: list[SpeedSeries] = Field(default_factory=list)
     peak_vs_speed: list[SpeedSeries] = Field(default_factory=list)
     flexible_vs_rigid: list[FlexRigidRow] = Field(default_factory=list)
+    mesh_convergence: list[MeshConvergenceTable] = Field(
+        default_factory=list, description="Quantities against element size, for a study with "
+        "an element-size axis (bodies.carbody.element_size_m or bodies.frames.element_size_m)")
     notes: list[str] = Field(default_factory=list)
 
 

@@ -84,7 +84,8 @@ def study_detail(svc: Services, study_id: str) -> StudyDetail:
     for j in jobs:
         counts[j.status] = counts.get(j.status, 0) + 1
     tables = study_tables([{"id": j.id, "axes": j.axes or {}, "speed_kmh": j.speed_kmh,
-                            "status": j.status, "summary": j.summary} for j in jobs])
+                            "status": j.status, "summary": j.summary,
+                            "run_meta": j.run_meta or {}} for j in jobs])
     return StudyDetail.model_validate(study).with_jobs_state(
         study_status(counts), _progress(jobs), counts).model_copy(update={
             "jobs": [StudyJobOut.model_validate(j) for j in jobs],

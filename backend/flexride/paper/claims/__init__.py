@@ -10,6 +10,7 @@ from __future__ import annotations
 from flexride.paper.claims.base import Claim, ClaimResult, evaluate
 from flexride.paper.claims.conclusions import conclusions
 from flexride.paper.claims.defects import section6, section7
+from flexride.paper.claims.precalculation import precalculation
 from flexride.paper.claims.section5 import section5
 from flexride.paper.claims.section8 import section8
 from flexride.paper.claims.tables import section3, table1, table2
@@ -19,8 +20,8 @@ __all__ = ["CLAIMS", "Claim", "ClaimResult", "evaluate", "evaluate_all"]
 
 
 def _registry() -> tuple[Claim, ...]:
-    claims = (*table1(), *table2(), *section3(), *section5(), *section6(), *section7(),
-              *section8(), *conclusions())
+    claims = (*precalculation(), *table1(), *table2(), *section3(), *section5(), *section6(),
+              *section7(), *section8(), *conclusions())
     ids = [c.id for c in claims]
     dup = sorted({i for i in ids if ids.count(i) > 1})
     if dup:

@@ -109,3 +109,17 @@ SINGLE_SAMPLE = (
     "intervals.")
 
 QUICK = "In a --quick study the runs are short and only two speeds are run."
+
+MESH_GROWTH = (
+    "flexride's car-body meshes are not refinements of each other: every element size snaps "
+    "its lines to the doors, windows and underframe beams anew and redistributes the "
+    "non-structural mass (docs/fem.md, 'Mesh convergence'), so a quantity can move either "
+    "way between two sizes; the paper's ANSYS SHELL63 meshes and its excitation of the smooth "
+    "track are not given. The report's Fig. 4 shows the forces against element size with "
+    "their extrapolated values.")
+
+MESH_ADEQUATE = (
+    "Judged on the Richardson-extrapolated values of the three finest meshes (Celik et al. "
+    "2008, docs/fem.md 'Mesh convergence'); where the meshes converge oscillatorily the "
+    "extrapolation measures the spread of the values, not an asymptote. The paper's own "
+    "criterion for 'adequate' is not stated.")
