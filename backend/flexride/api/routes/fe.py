@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Depends, Path, Query, Response
+from fastapi import APIRouter, Depends, Path, Query, Request, Response
 from pydantic import ValidationError
 
 from flexride.api.deps import ServicesDep, TokenOk
@@ -12,7 +12,7 @@ from flexride.api.params import JobId
 from flexride.api.schemas import ErrorResponse, FEBuildStatus, FEExport, FEPairing
 from flexride.api.services import fe as svc_fe
 from flexride.errors import ErrorItem, ScenarioError
-from flexride.fem.export import DEFAULT_MAX_MODES, ExportSpec
+from flexride.fem.export import BODY_FIELDS, DEFAULT_MAX_MODES, ExportSpec
 from flexride.scenario.bodies import BodyModel, CarBodyCalibration
 from flexride.study.admission import check_fe_build
 
@@ -46,7 +46,7 @@ CALIBRATION_QUERY = {"targets": "calibration_targets", "variables": "calibration
 
 
 def body_spec(
-    kind: Kind,
+    request: Request,
     svc: ServicesDep,
     element_size_m: Annotated[float, _body_query("element_size_m")] = _DEFAULT.element_size_m,
     cutoff_hz: Annotated[float, _body_query("cutoff_hz")] = _DEFAULT.cutoff_hz,
@@ -66,12 +66,18 @@ def body_spec(
         description=_CAL_LIMITS["max_evaluations"].description)] = 30,
     calibration_n_modes: Annotated[int | None, Query(
         description=_CAL_LIMITS["n_modes"].description)] = None,
-) -> ExportSpec:
+) -> ExportSpec | None:
     """The export of a body model fitted to ``preset``'s vehicle, from the query parameters
     every FE route shares (those of a scenario's ``bodies.carbody`` / ``bodies.frames``, the
     calibration flattened), once the service's limits admit its build; 422 at the query
     parameter otherwise.
+
+    The body kind is the route's path parameter, which each route declares (and checks) with
+    the kinds it serves; None for another kind (the route's own check answers 422 then).
     """
+    kind = request.path_params.get("kind")
+    if kind not in BODY_FIELDS:
+        return None
     calibration = _query_calibration(kind, calibration_targets, calibration_variables,
                                      calibration_max_evaluations, calibration_n_modes)
     body = BodyModel(model="flexible", reduction=reduction, cutoff_hz=cutoff_hz,
@@ -124,7 +130,7 @@ def _message(err: Any) -> str:
     return msg
 
 
-BodySpec = Annotated[ExportSpec, Depends(body_spec)]
+BodySpec = Annotated[ExportSpec | None, Depends(body_spec)]
 
 
 RESPONSES: dict[int | str, dict[str, Any]] = {
@@ -168,6 +174,7 @@ def fe_model(
     calibrated values and the pairing with each target's frequency error. A target type
     the starting model has no mode of fails the build early (422).
     """
+    assert spec is not None  # the kind was checked
     return svc_fe.respond(svc.fe, spec, may_start=may_build)
 
 
@@ -194,6 +201,7 @@ def fe_pairing(
     ``calibration_targets`` it is the pairing of the calibrated model (``GET /fe/carbody``
     with the same parameters).
     """
+    assert spec is not None  # the kind was checked
     return svc_fe.respond_pairing(svc.fe, spec, targets, may_start=may_build)
 
 
