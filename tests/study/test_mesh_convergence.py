@@ -139,7 +139,7 @@ def test_forces_and_accelerations_below_the_resolution_are_not_judged():
         pc["peaks"]["rms"], pc["sperling"]["value"] = 1e-5, 0.05
     table = mesh_convergence_tables(jobs)[0]
     rows = {r["key"]: r for r in table["rows"]}
-    assert rows["secondary.1L.z.rms_dynamic"]["negligible"].startswith("below 0.0001 of")
+    assert rows["secondary.1L.z.rms_dynamic"]["negligible"].startswith("below 0.001 of")
     assert rows["secondary.1L.z.max_abs"]["negligible"] is None
     assert rows["PC.z.rms"]["negligible"] and rows["PC.z.sperling"]["negligible"]
     assert rows["frequency.1"]["negligible"] is None
