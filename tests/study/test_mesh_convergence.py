@@ -146,3 +146,11 @@ def test_forces_and_accelerations_below_the_resolution_are_not_judged():
     claim = table["claim"]
     assert claim["grows"] == [0, 2] and not claim["grows_holds"]  # 10 kN at every mesh
     assert "rows below the resolution, not judged" in claim["text"]
+
+
+def test_growth_needs_meshes_coarser_than_the_reference():
+    fine = [j for j in _study(lambda h: 200.0 + 1000.0 * h**2, lambda h: 5.0)
+            if j["axes"][AXIS] <= 0.2]
+    claim = mesh_convergence_tables(fine)[0]["claim"]
+    assert claim["grows"] == [0, 0] and claim["grows_holds"] is None
+    assert "no mesh coarser than 0.2 m: growth not judged" in claim["text"]

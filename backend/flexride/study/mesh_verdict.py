@@ -123,11 +123,11 @@ def paper_claim(sizes: list[float], rows: list[dict[str, Any]]) -> dict[str, Any
         "reference_within": within,
         "adequate": None if within["all"] is None else within["all"] <= ADEQUATE_WITHIN,
         "negligible": [r["key"] for r in rows if r.get("negligible")]}
-    claim["text"] = _claim_text(claim, sizes)
+    claim["text"] = _claim_text(claim, sizes, bool(force))
     return claim
 
 
-def _claim_text(claim: dict[str, Any], sizes: list[float]) -> str:
+def _claim_text(claim: dict[str, Any], sizes: list[float], any_force: bool) -> str:
     n, of = claim["grows"]
     parts = []
     if of:
@@ -136,8 +136,10 @@ def _claim_text(claim: dict[str, Any], sizes: list[float]) -> str:
                f"{REFERENCE_SIZE_M:g} m value)" if ratio is not None else "")
         parts.append(f"the air-spring force grows with the element size in {n} of {of} "
                      f"judged rows{how}")
+    elif any_force:
+        parts.append(f"no mesh coarser than {REFERENCE_SIZE_M:g} m: growth not judged")
     else:
-        parts.append("no air-spring force row is large enough to judge growth")
+        parts.append("no air-spring force above the resolution: growth not judged")
     w = claim["reference_within"]
     if w["all"] is None:
         parts.append(f"{REFERENCE_SIZE_M:g} m is not among the sizes, or no row is large "
