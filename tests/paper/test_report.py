@@ -24,7 +24,13 @@ def test_summary_json_lists_every_claim_with_a_verdict(tiny_report):
     verdicts = {c["id"]: c["verdict"] for c in claims}
     assert verdicts["table1.mode1"] in ("reproduced", "not reproduced")
     assert verdicts["s5.2.fig15.vertical"] == "not comparable"  # no curve in this study
-    assert result.outcome.computed + result.outcome.reused == 4 and not result.outcome.failures
+    # Table 3's 4 runs and the pre-calculation's 2 tracks x 3 meshes
+    assert result.outcome.computed + result.outcome.reused == 10 and not result.outcome.failures
+    # Fig. 4 on 0.7/0.6/0.5 m: the smooth track's air springs carry their static load on every
+    # mesh (nothing grows); 0.2 m is not among the sizes (adequacy not comparable)
+    grows = next(c for c in claims if c["id"] == "s2.fig4.grows")
+    assert grows["verdict"] == "not reproduced" and grows["flexride"]["holds"] is False
+    assert verdicts["s2.fig4.adequate"] == "not comparable"
     sperling = next(c for c in claims if c["id"] == "table2.sperling_z.flexible")["flexride"]
     assert 0.5 < sperling["value"] < 5.0
 
@@ -38,7 +44,11 @@ def test_index_html_is_self_contained_and_embeds_plotly(tiny_report):
     data = re.search(r"<script type='application/json' id='figure-data'>(.*?)</script>",
                      page, flags=re.S)
     figures = json.loads(data.group(1))
-    assert {"fig6", "fig7", "fig10", "fig24", "fig26"} <= {f["id"] for f in figures}
+    assert {"fig4", "fig6", "fig7", "fig10", "fig24", "fig26"} <= {f["id"] for f in figures}
+    fig4 = next(f for f in figures if f["id"] == "fig4")
+    assert len(fig4["panels"]) == 4 and not fig4["note"]  # 2 tracks x (largest value, rms)
+    assert [t["x"] for t in fig4["panels"][0]["data"] if t["mode"] == "lines+markers"][0] == [
+        0.5, 0.6, 0.7]
     assert "Shortened study" in page and "Model overrides" in page
     assert "s8.fig26.pr-lag" in page
 
@@ -46,7 +56,7 @@ def test_index_html_is_self_contained_and_embeds_plotly(tiny_report):
 def test_a_rerun_reuses_the_cached_runs(tiny_report):
     directory, first = tiny_report
     again = run_report(directory, tiny_options(jobs=1))
-    assert again.outcome.reused == 4 and again.outcome.computed == 0
+    assert again.outcome.reused == 10 and again.outcome.computed == 0
     assert [c["verdict"] for c in again.claims] == [c["verdict"] for c in first.claims]
 
 
