@@ -1,8 +1,10 @@
 """Results of a run: time and distance axes, named channels with units, and their HDF5 file.
 
 Channel names follow ``<body>.<point>.<quantity>.<direction>`` (DESIGN §4), for example
-``carbody.PR.acc.z`` (car-body vertical acceleration at the roof point, m/s²) or
-``wheelset1.left.force.z`` (wheel-rail normal force of the left wheel of wheelset 1, N).
+``carbody.PR.acc.z`` (car-body vertical acceleration at the roof point, m/s²),
+``wheelset1.left.force.z`` (wheel-rail normal force of the left wheel of wheelset 1, N) or
+``secondary.1L.force.z`` (vertical force of the left air spring of bogie 1 on the car body, N);
+see :class:`Channel`.
 
 The HDF5 layout is one file per run::
 
@@ -46,6 +48,10 @@ FORMAT_VERSION = 3
 #: Description of the coordinates of ``/points/position``.
 POINT_FRAME = ("nominal vehicle geometry: x from the car-body centre, forward positive; "
                "y left positive; z above top of rail (m)")
+
+#: Suspension stages that name a channel's "body" (``<stage>.<element>.force.<direction>``,
+#: :class:`Channel`); the solver records the ``secondary`` stage (the air springs).
+SUSPENSION_STAGES = ("primary", "secondary")
 
 TIMING_KEYS = ("setup_s", "solve_s", "write_s", "analyze_s")
 """The phases of a run timed in ``timings`` (``flexride run --json``, job records)."""
@@ -97,7 +103,15 @@ class Channel:
     * ``carbody.PC.acc.z``: acceleration (m/s²) at a recorded point, direction ``y`` or ``z``;
     * ``wheelset1.left.force.z``: wheel–rail force (N) of a wheel, ``z`` vertical, ``y``
       lateral, ``n`` normal; ``wheelset1.left.rail_disp.z``: rail displacement under it (m);
-    * ``frame1.cg.disp.x`` / ``rot.x`` / ``spin.y``: rigid coordinates of a body (m, rad).
+    * ``frame1.cg.disp.x`` / ``rot.x`` / ``spin.y``: rigid coordinates of a body (m, rad);
+    * ``secondary.1L.force.z``: force (N) of a suspension element, where "body" is the
+      suspension stage (:data:`SUSPENSION_STAGES`) and "point" the element within it (``1L``:
+      bogie 1, left; ``2R``: bogie 2, right), direction ``x``, ``y`` or ``z``. The value is the
+      force the element's translational spring and damper exert on the car body (its body A),
+      in the car body's track frame (x forward, y left, z up), averaged over each output
+      interval like the wheel forces: vertical positive up, so an air spring's static value is
+      its share of the car body's weight. The solver records the air springs
+      (``secondary.<bogie><L|R>.force.<x|y|z>``) in every run.
     """
 
     body: str
@@ -136,7 +150,11 @@ class Results:
     scenario : dict
         The full scenario that produced the run (JSON-compatible).
     meta : dict
-        Run facts: ``speed_mps``, ``dt`` (s), ``output_rate`` (Hz), wall times, etc.
+        Run facts: ``speed_mps``, ``dt`` (s), ``output_rate`` (Hz), wall times, etc.;
+        ``flexible_bodies``: per flexible body (``carbody``, ``frame1``, ``frame2``; rigid
+        bodies absent) its ``model``, ``element_size_m`` (m) and retained
+        ``elastic_frequencies_hz`` (Hz), see
+        :func:`flexride.solver.assemble.flexible_body_facts`.
     points : list of dict, optional
         Recorded points (:meth:`flexride.vehicle.topology.RecordedPoint.to_dict`: ``body``,
         ``name``, ``description``, ``x``, ``y``, ``z`` in m, ``on_floor``), as the solver made

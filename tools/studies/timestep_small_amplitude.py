@@ -139,8 +139,8 @@ def _setup(a, x: float, scale: float = 0.0, seconds: float = 1.0):
 def _step(asm, ws, n):
     from flexride.solver.kernel import run_chunk
     return run_chunk(asm.sys, ws.X, ws.V, ws.A, ws.Ap, ws.F, ws.aux, ws.sn, ws.cst, ws.facc,
-                     ws.ptv, ws.pscr, ws.X_ref, ws.u, ws.q, ws.tstate, n, ws.rec, ws.rec_t,
-                     ws.rec_s, ws.info, ws.watch)
+                     ws.eacc, ws.ptv, ws.pscr, ws.X_ref, ws.u, ws.q, ws.tstate, n, ws.rec,
+                     ws.rec_t, ws.rec_s, ws.info, ws.watch)
 
 
 def _pack(ws):

@@ -16,7 +16,10 @@ Per car-body output point (channels ``carbody.<POINT>.acc.<x|y|z>``) and directi
 
 Per run: cross-correlations of a reference point (PRB by default, the paper's Fig. 26) with
 every other point, vertical and lateral; running safety from the wheel–rail forces; peak
-statistics of every other acceleration channel (bogie frames, wheelsets).
+statistics of every other acceleration channel (bogie frames, wheelsets); and the statistics
+of every recorded suspension force (channels ``<stage>.<element>.force.<x|y|z>`` of the stages
+in :data:`~flexride.results.SUSPENSION_STAGES`, the air springs ``secondary.1L`` …): mean,
+rms and peak of the dynamic part (record minus its mean) and the largest |value|, in N.
 
 A measure that cannot be computed (record too short, sample rate too low...) is left out and
 its reason recorded in ``errors``; :func:`analyze` itself raises
@@ -58,10 +61,12 @@ from flexride.analysis.summary import (
     DirectionSummary,
     PointSummary,
     Summary,
+    SuspensionForceSummary,
 )
 from flexride.analysis.timefreq import Spectrogram, spectrogram
 from flexride.analysis.weighting import WeightingMethod, apply_weighting
 from flexride.errors import AnalysisError, FlexrideError
+from flexride.results import SUSPENSION_STAGES
 from flexride.units import mps_to_kmh
 from flexride.vehicle.topology import PAPER_POINT_NAMES
 
@@ -145,6 +150,11 @@ def _settings(sperling_form: SperlingForm, filter_method: WeightingMethod, max_l
                         "convention": "R_ab(k) = sum a[n] b[n+k], a = reference; "
                                       "max at lag > 0: other point lags",
                         "local_maxima": "prominence >= 0.05 (normalised), 5 largest"},
+        "suspension": {"unit": "N", "record": "the whole record analysed (mean over each "
+                                              "output interval of the kernel's forces)",
+                       "force": "on the car body, in its track frame; z positive up (static: "
+                                "the weight share)",
+                       "dynamic": "record minus its mean"},
         "safety": {**SAFETY_DEFAULTS, "limits": {**SAFETY_LIMITS,
                                                   "wheelset_lateral_force_kN": "10 + 2Q0/3"},
                    "editions": "GB 5599-1985 (limits of Y/Q and ΔQ/Q, its Q/P and ΔP/P), "
@@ -214,10 +224,11 @@ def analyze(
                                  notes)
     safety = _running_safety(results, arrays, notes)
     other_channels = _other_channel_peaks(results, other_acc, fs, t0, notes)
+    suspension = _suspension_forces(results, time.size, notes)
     return Summary(run=_run_block(results, time, fs, t0),
                    settings=_settings(sperling_form, filter_method, correlation_max_lag_s, ref),
                    points=points, correlations=correlations, safety=safety,
-                   other_channels=other_channels,
+                   other_channels=other_channels, suspension=suspension,
                    notes=[*results.meta.get("notes", []), *notes])  # the run's own first
 
 
@@ -365,6 +376,28 @@ def _other_channel_peaks(results: Results, channels: list[str], fs: float, t0: f
         except FlexrideError as exc:
             notes.append(f"{ch}: {_err(exc)}")
     return other_channels
+
+
+def _suspension_forces(results: Results, n_samples: int, notes: list[str]
+                       ) -> dict[str, dict[str, SuspensionForceSummary]]:
+    """Statistics (N) of the recorded suspension forces over the whole record handed to
+    :func:`analyze` (the evaluated window), by element (``<stage>.<element>``, e.g.
+    ``secondary.1L``) and direction; a channel of the wrong length or with NaN or infinite
+    values is skipped with a note.
+    """
+    out: dict[str, dict[str, SuspensionForceSummary]] = {}
+    for ch in results.parsed():
+        if ch.body not in SUSPENSION_STAGES or ch.quantity != "force":
+            continue
+        f = np.asarray(results.channels[ch.name], dtype=np.float64)
+        if f.ndim != 1 or f.size != n_samples or f.size == 0:
+            notes.append(f"{ch.name}: length {f.shape} differs from the time axis; skipped")
+            continue
+        if not np.all(np.isfinite(f)):
+            notes.append(f"{ch.name}: contains NaN or infinite values; skipped")
+            continue
+        out.setdefault(f"{ch.body}.{ch.point}", {})[ch.direction] = SuspensionForceSummary.of(f)
+    return out
 
 
 def _run_block(results: Results, time: np.ndarray, fs: float, t0: float) -> dict[str, Any]:

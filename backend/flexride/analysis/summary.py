@@ -3,6 +3,8 @@
 :class:`Summary` holds, per car-body output point (:class:`PointSummary`) and direction
 (:class:`DirectionSummary`), every measure of the run, plus the cross-correlations
 (:class:`CorrelationSummary`), running safety and the peaks of the other acceleration channels.
+:class:`SuspensionForceSummary` holds the statistics of each recorded suspension force
+(the air springs: ``summary.suspension["secondary.1L"]["z"]``).
 :meth:`Summary.to_dict` / :meth:`Summary.to_json` give its JSON form (the one the CLI, the
 service and the dashboard read); :meth:`Summary.value` picks one scalar for tables and
 regressions.
@@ -34,6 +36,7 @@ __all__ = [
     "DirectionSummary",
     "PointSummary",
     "Summary",
+    "SuspensionForceSummary",
 ]
 
 ISO_WEIGHTINGS: dict[str, tuple[str, ...]] = {"z": ("Wb", "Wk"), "y": ("Wd",), "x": ("Wd",)}
@@ -129,6 +132,42 @@ class CorrelationSummary:
 
 
 @dataclass
+class SuspensionForceSummary:
+    """Statistics of one suspension force channel over the evaluated record (N).
+
+    The channel ``<stage>.<element>.force.<direction>`` (e.g. ``secondary.1L.force.z``) is the
+    force the element exerts on the car body, in its track frame, vertical positive up
+    (:class:`~flexride.results.Channel`).
+
+    Attributes
+    ----------
+    mean : float
+        Mean of the record f (N): the static part (an air spring's share of the car body's
+        weight, vertically).
+    rms_dynamic : float
+        Root mean square of f − mean (N).
+    peak_dynamic : float
+        Largest |f − mean| (N).
+    max_abs : float
+        Largest |f| (N).
+    """
+
+    mean: float
+    rms_dynamic: float
+    peak_dynamic: float
+    max_abs: float
+
+    @classmethod
+    def of(cls, f: np.ndarray) -> SuspensionForceSummary:
+        """The statistics of the force record ``f`` (N, at least one sample)."""
+        f = np.asarray(f, dtype=np.float64)
+        mean = float(np.mean(f))
+        dyn = f - mean
+        return cls(mean=mean, rms_dynamic=float(np.sqrt(np.mean(dyn * dyn))),
+                   peak_dynamic=float(np.max(np.abs(dyn))), max_abs=float(np.max(np.abs(f))))
+
+
+@dataclass
 class Summary:
     """Analysis of one run.
 
@@ -146,6 +185,9 @@ class Summary:
         Running-safety indices, if the run recorded wheel–rail forces.
     other_channels : dict of str to PeakStats
         Peak statistics of non-car-body acceleration channels.
+    suspension : dict of str to dict of str to SuspensionForceSummary
+        Recorded suspension forces by element (``secondary.1L`` …) and direction (``x``,
+        ``y``, ``z``), in N.
     notes : list of str
         Remarks about the analysis (skipped channels...).
     """
@@ -156,6 +198,7 @@ class Summary:
     correlations: list[CorrelationSummary] = field(default_factory=list)
     safety: RunningSafety | None = None
     other_channels: dict[str, PeakStats] = field(default_factory=dict)
+    suspension: dict[str, dict[str, SuspensionForceSummary]] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:

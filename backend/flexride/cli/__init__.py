@@ -139,6 +139,32 @@ def _print_summary(summary: dict[str, Any]) -> None:
     for r in summary["accelerations"]:
         table.add_row(r["body"], r["point"], r["direction"], f"{r['rms']:.4f}", f"{r['peak']:.4f}")
     console.print(fit_table(table, console))
+    comfort = summary.get("comfort")
+    suspension = comfort.get("suspension") if isinstance(comfort, dict) else None
+    if suspension:
+        console.print(fit_table(_suspension_table(suspension), console))
+
+
+def _suspension_table(suspension: dict[str, Any]) -> Table:
+    """The summary's suspension forces (kN), vertical and lateral, one row per element."""
+    table = Table(title="suspension forces on the car body (kN; z up)")
+    table.add_column("element")
+    for d in ("z", "y"):
+        table.add_column(f"{d} mean", justify="right")
+        table.add_column(f"{d} rms dyn", justify="right")
+        table.add_column(f"{d} peak dyn", justify="right")
+    for element, dirs in suspension.items():
+        cells = [element]
+        for d in ("z", "y"):
+            s = dirs.get(d) or {}
+            cells += [_kn(s.get(k)) for k in ("mean", "rms_dynamic", "peak_dynamic")]
+        table.add_row(*cells)
+    return table
+
+
+def _kn(value: float | None) -> str:
+    """A force in N as kN text (``-`` when missing)."""
+    return "-" if value is None else f"{value / 1000.0:.2f}"
 
 
 def _print_analysis(comfort: Any, points: list[dict[str, Any]]) -> None:

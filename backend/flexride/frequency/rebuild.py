@@ -72,7 +72,7 @@ COLUMN_CHECK_RTOL = 1e-7
 #: costs a force evaluation and a triangular solve, 0.1 ms; a refactorisation 5 ms).
 CHORD_REFRESH = 12
 #: Arrays of the kernel that the kernel writes (scratch), not compared.
-_SCRATCH = ("body_line",)
+_SCRATCH = ("body_line", "el_force")
 #: Arrays whose change a partial Jacobian update handles.
 _ELEMENT_ARRAYS = {"el_k", "el_c"}
 #: How a steady state was found, by :attr:`OperatingPoint.chord_iterations` (else chord).

@@ -33,6 +33,10 @@ RIGID_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
 CHATTER_LOAD_FRACTION = 0.01
 RAIL_DIRS = ("vertical", "lateral", "torsion")
 SIDES = ("left", "right")
+#: Suspension stages whose elements' translational forces are always recorded (channels
+#: ``<stage>.<element>.force.<x|y|z>``, e.g. ``secondary.1L.force.z``): the air springs.
+RECORDED_STAGES = ("secondary",)
+FORCE_DIRECTIONS = ("x", "y", "z")
 #: Speed below which creepages are referred to this value instead (m/s): keeps creep forces
 #: finite at standstill (they saturate anyway).
 CREEP_MIN_SPEED = 0.5
@@ -174,11 +178,61 @@ def vehicle_for(scenario: Scenario) -> VehicleModel:
     return build_vehicle(scenario.vehicle, scenario.output, carbody=carbody, frames=frames)
 
 
+def flexible_body_facts(scenario: Scenario, veh: VehicleModel) -> dict[str, dict[str, Any]]:
+    """What the run's flexible bodies are made of, JSON-compatible (``meta["flexible_bodies"]``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario (each body's model and element size).
+    veh : VehicleModel
+        The assembled vehicle: a body with elastic modes is flexible, whatever built it.
+
+    Returns
+    -------
+    dict
+        By body name (``carbody``, ``frame1``, ``frame2``; rigid bodies absent):
+        ``model`` (``flexible``, ``beam``, or None for a body the scenario calls rigid, e.g. a
+        prebuilt vehicle passed to the solver), ``element_size_m`` (m: the car body's shell
+        elements, the frames' beam elements, i.e. ``frame_element_size`` of the setting; None
+        for the beam car body and where the scenario does not say), ``elastic_frequencies_hz``
+        (Hz, the retained elastic modes in the body's order) and ``damping_ratios`` (-).
+    """
+    facts: dict[str, dict[str, Any]] = {}
+    for body in veh.bodies:
+        if body.n_elastic == 0:
+            continue
+        from flexride.fem.vehicle_models import frame_element_size  # FE stack: on use only
+
+        settings = (scenario.bodies.carbody if body.name == "carbody"
+                    else scenario.bodies.frames if body.name.startswith("frame") else None)
+        model = settings.model if settings is not None and settings.model != "rigid" else None
+        size: float | None = None
+        if model == "flexible" and settings is not None:
+            size = float(settings.element_size_m)
+            if body.name != "carbody":
+                size = float(frame_element_size(size))
+        facts[body.name] = {
+            "model": model,
+            "element_size_m": size,
+            "elastic_frequencies_hz": [float(f) for f in body.elastic_frequencies],
+            "damping_ratios": [float(z) for z in body.elastic_damping],
+        }
+    return facts
+
+
 def channel_layout(veh: VehicleModel, profiles: bool = False
                    ) -> tuple[list[str], list[str], list[tuple[int, int, int]]]:
     """Names, units and kernel recipes ``(kind, a, b)`` of the recorded channels, in order:
     accelerations of every recorded point, wheel–rail forces and rail displacements of every
-    wheel, and the rigid coordinates of every body.
+    wheel, the rigid coordinates of every body, and the forces of the suspension elements of
+    :data:`RECORDED_STAGES`.
+
+    A suspension element ``<stage>.<name>`` (e.g. ``secondary.1L``, the left air spring of
+    bogie 1) records ``<stage>.<name>.force.<x|y|z>`` (N): the mean over the output interval of
+    the force its translational spring and damper exert on its body A (the car body for the
+    secondary suspension), in A's track frame — vertical positive up, so an air spring's static
+    value is its share of the car body's weight.
 
     With ``profiles`` (real profile contact) every wheel also records the normal force of its
     flange contact point (``<wheelset>.<side>.force.flange``, N) and the track-frame contact
@@ -232,6 +286,14 @@ def channel_layout(veh: VehicleModel, profiles: bool = False
             names.append(Channel(body.name, "cg", quantity, d).name)
             units.append(u)
             kinds.append((S.CH_COORD, int(off[bi] + j), 0))
+    for e, el in enumerate(veh.elements):
+        stage, _, element = el.name.partition(".")
+        if stage not in RECORDED_STAGES:
+            continue
+        for j, d in enumerate(FORCE_DIRECTIONS):
+            names.append(Channel(stage, element, "force", d).name)
+            units.append("N")
+            kinds.append((S.CH_ELEMENT_FORCE, e, j))
     return names, units, kinds
 
 
@@ -701,10 +763,9 @@ def _system_arrays(par: S.Scalars, veh: VehicleModel, rail: RailModel, dofs: _Do
         line=line.as_array(),
         pt_body=susp.pt_body,
         pt_phi=susp.pt_phi,
-        ch_kind=np.ascontiguousarray(ch[:, 0]),
-        ch_a=np.ascontiguousarray(ch[:, 1]),
-        ch_b=np.ascontiguousarray(ch[:, 2]),
+        ch=np.ascontiguousarray(ch),
         body_line=np.zeros((len(bodies), S.N_BL)),
+        el_force=np.zeros((len(veh.elements), 3)),
     )
 
 

@@ -21,7 +21,7 @@ per step not longer):
 * Time: an array passed to an inlined helper costs an atomic reference-count increment and
   decrement per call unless numba's pruning removes the pair, which it does only when the
   array's last use is not inside a branch. Helpers called in loops take the arrays they index
-  (never ``sys``, a tuple of 34 arrays) and use them in straight-line code; the branches that
+  (never ``sys``, a tuple of 33 arrays) and use them in straight-line code; the branches that
   decide whether to call them sit in the caller (e.g. ``_any_nonzero``), and table rows are
   taken from their table before the branching lookups (e.g. ``_line_values``).
 """
@@ -73,7 +73,7 @@ from flexride.solver.system import (
 
 _FM = set(FASTMATH)
 #: Options of the kernels only ever called from other compiled functions: no CPython and C
-#: wrappers. A function of ``sys`` otherwise also compiles the unboxing of its 34 arrays and the
+#: wrappers. A function of ``sys`` otherwise also compiles the unboxing of its 33 arrays and the
 #: named scalars, which costs more than a small function itself (cold compile of a first run
 #: about 2 s CPU less); the function's own code is the same. Called from Python such a function
 #: crashes the process: they are private (``_vehicle_forces``, …); the public names are the same
@@ -364,7 +364,10 @@ def vehicle_forces(sys, X, V, s, F):
     The line geometry is looked up once per body (not per element) into ``sys.body_line``;
     each element's translation and rotation rows are evaluated in one fused pass over the
     coordinates of each of its two bodies (the cost of a flexible body grows with its number of
-    modes times the number of its attachment markers, DESIGN §3.5).
+    modes times the number of its attachment markers, DESIGN §3.5). Each element's
+    translational spring–damper force on marker A (N, in A's track frame; the opposite acts on
+    B) is also written to ``sys.el_force[e]``, where the kernel averages it for the recorded
+    suspension channels.
     """
     par = sys.par
     speed = par.speed
@@ -396,7 +399,10 @@ def vehicle_forces(sys, X, V, s, F):
         par.k_traction * X[sys.body_off[0]] + par.c_traction * V[sys.body_off[0]]
     )
     # suspension elements: translation rows 0–2, rotation rows 3–5 (the branches here, not in
-    # the helpers: see the module docstring)
+    # the helpers: see the module docstring); the translational force on A is kept in
+    # ``el_force`` for the recorded channels (stored here, not through a helper: an array
+    # passed to a helper inside a branch costs a reference count, see the module docstring)
+    ef = sys.el_force
     for e in range(par.n_elem):
         a = sys.el_a[e]
         bb = sys.el_b[e]
@@ -411,6 +417,13 @@ def vehicle_forces(sys, X, V, s, F):
             f0, f1, f2 = _translation_spring_forces(ua, ub, pos_b, kc, speed, fo)
             _marker_force3(phi, pa, na, F, oa, f0, f1, f2)
             _marker_force3(phi, pb, nbd, F, ob, -f0, -f1, -f2)
+            ef[e, 0] = f0
+            ef[e, 1] = f1
+            ef[e, 2] = f2
+        else:
+            ef[e, 0] = 0.0
+            ef[e, 1] = 0.0
+            ef[e, 2] = 0.0
         kc = _element_coefficients(sys.el_k, sys.el_c, e, 3)
         if _any_nonzero(kc):
             ua = _marker_kinematics3(phi, pa + 3 * na, na, X, V, oa)

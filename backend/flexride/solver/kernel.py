@@ -11,7 +11,8 @@ comes from the nonlinearity.
 
 Outputs are decimated: accelerations of points are the mean over each output interval
 (velocity difference divided by the interval, an exact boxcar average that keeps aliasing
-down), wheel–rail forces are averaged over the interval, displacements are sampled.
+down), wheel–rail forces and suspension-element forces are averaged over the interval (the
+mean of the forces evaluated at the interval's steps), displacements are sampled.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from flexride.solver.system import (
     AUX_RAIL_Y,
     AUX_RAIL_Z,
     CH_COORD,
+    CH_ELEMENT_FORCE,
     CH_POINT_ACC_Y,
     CH_POINT_ACC_Z,
     CH_RAIL_Y,
@@ -109,7 +111,10 @@ def _shift_window(sys, X, V, Ap, nshift, u, q):
 
 
 @numba.njit(cache=True, fastmath=_FM, **_CALLED_FROM_KERNELS)
-def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
+def _record(sys, X, V, aux, facc, eacc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
+    """Write one output sample (row ``tstate[T_NREC]`` of ``rec``) and restart the interval's
+    means (``facc``, ``eacc``); False when ``rec`` is full.
+    """
     par = sys.par
     k = int(tstate[T_NREC])
     if k >= rec.shape[0]:
@@ -144,9 +149,9 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
         pscr[p, 0] = ay + f_y + rx * f_z
         pscr[p, 1] = az + f_z - rx * f_y - g
     for c in range(par.n_ch):
-        kind = sys.ch_kind[c]
-        a = sys.ch_a[c]
-        bb = sys.ch_b[c]
+        kind = sys.ch[c, 0]
+        a = sys.ch[c, 1]
+        bb = sys.ch[c, 2]
         if kind == CH_POINT_ACC_Y:
             val = pscr[a, 0]
         elif kind == CH_POINT_ACC_Z:
@@ -167,6 +172,8 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
             val = aux[a, bb, AUX_RAIL_Y]
         elif kind == CH_COORD:
             val = X[a] - X0[a]
+        elif kind == CH_ELEMENT_FORCE:
+            val = eacc[a, bb] / ndec
         else:
             val = math.nan
         rec[k, c] = val
@@ -181,6 +188,10 @@ def _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
             facc[w, sd, 2] = 0.0
             facc[w, sd, 3] = 0.0
             facc[w, sd, 4] = 0.0
+    for e in range(eacc.shape[0]):
+        eacc[e, 0] = 0.0
+        eacc[e, 1] = 0.0
+        eacc[e, 2] = 0.0
     return True
 
 
@@ -249,6 +260,7 @@ def run_chunk(
     sn,
     cst,
     facc,
+    eacc,
     ptv,
     pscr,
     X0,
@@ -266,7 +278,9 @@ def run_chunk(
 
     Returns a status code (STATUS_OK, STATUS_NONFINITE, STATUS_RUNAWAY, STATUS_CHATTER, or
     STATUS_FULL when the record buffer is full); ``tstate`` carries time, window start, step
-    and record counters, ``watch`` the state of :func:`_watch`.
+    and record counters, ``watch`` the state of :func:`_watch`. ``facc`` (per wheel, see
+    :data:`~flexride.solver.system.N_FACC`) and ``eacc`` (per suspension element, the x, y, z
+    force of ``sys.el_force``; N) sum the forces of the current output interval's steps.
     """
     par = sys.par
     dt = par.dt
@@ -282,6 +296,8 @@ def run_chunk(
         if xb > x_front:
             x_front = xb
     nshift = par.shift_bays
+    el_force = sys.el_force
+    n_el = min(eacc.shape[0], el_force.shape[0])
     for _ in range(n_steps):
         if tstate[T_FIRST] == 0.0:
             psi = 0.0
@@ -309,12 +325,18 @@ def run_chunk(
                 facc[w, sd, 2] += aux[w, sd, AUX_N]
                 facc[w, sd, 3] += aux[w, sd, AUX_N_FLANGE]
                 facc[w, sd, 4] += aux[w, sd, AUX_ANGLE]
+        # every element's force (a few dozen additions, cheaper than choosing the recorded)
+        for e in range(n_el):
+            eacc[e, 0] += el_force[e, 0]
+            eacc[e, 1] += el_force[e, 1]
+            eacc[e, 2] += el_force[e, 2]
         step = tstate[T_STEP] + 1.0
         tstate[T_STEP] = step
         if int(step) % ndec == 0:
             st = _check(sys, X, X0, info)
             if st != STATUS_OK:
                 return st
-            if not _record(sys, X, V, aux, facc, ptv, pscr, X0, s, tstate, rec, rec_t, rec_s):
+            if not _record(sys, X, V, aux, facc, eacc, ptv, pscr, X0, s, tstate, rec, rec_t,
+                           rec_s):
                 return STATUS_FULL
     return STATUS_OK

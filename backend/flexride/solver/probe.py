@@ -96,8 +96,8 @@ def probe(scenario: Scenario, asm: Assembly, dt: float, curving: bool = False,
     changes = []
     for _ in range(round(seconds / dt) // CHUNK):
         status = run_chunk(start.sys, ws.X, ws.V, ws.A, ws.Ap, ws.F, ws.aux, ws.sn, ws.cst,
-                           ws.facc, ws.ptv, ws.pscr, ws.X_ref, ws.u, ws.q, ws.tstate, CHUNK,
-                           ws.rec, ws.rec_t, ws.rec_s, ws.info, ws.watch)
+                           ws.facc, ws.eacc, ws.ptv, ws.pscr, ws.X_ref, ws.u, ws.q, ws.tstate,
+                           CHUNK, ws.rec, ws.rec_t, ws.rec_s, ws.info, ws.watch)
         ws.tstate[S.T_NREC] = 0  # keep recording into the same buffer
         if status not in (STATUS_OK, STATUS_FULL):
             return Probe(True, np.nan, np.nan)

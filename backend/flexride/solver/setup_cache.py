@@ -57,14 +57,13 @@ DISK_ENTRIES = 2048
 """Set-up files kept in the cache directory (a few kB each); the oldest go first."""
 
 NOT_READ: dict[str, frozenset[str]] = {
-    "fields": frozenset({"body_line", "pt_body", "pt_phi", "ch_kind", "ch_a", "ch_b",
-                         "irr", "line"}),
+    "fields": frozenset({"body_line", "el_force", "pt_body", "pt_phi", "ch", "irr", "line"}),
     "par": frozenset({"dt", "n_dec", "n_points", "n_ch", "irr_s0", "irr_ds", "ln_s0", "ln_ds",
                       "chatter_force"}),
 }
-"""SystemArrays fields and scalars left out of the key: written before read (``body_line``),
-recording layout, the step, the run-time watch's threshold, and the route tables and their
-grids (in the key through ``route_inputs``)."""
+"""SystemArrays fields and scalars left out of the key: written before read (``body_line``,
+``el_force``), recording layout, the step, the run-time watch's threshold, and the route
+tables and their grids (in the key through ``route_inputs``)."""
 
 ENV = "FLEXRIDE_SETUP_CACHE"
 """``off``: compute every set-up; ``memory``: no files; anything else (default): both."""

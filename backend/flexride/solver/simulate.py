@@ -18,7 +18,13 @@ from flexride.scenario.fidelity import cutoff_notes
 from flexride.scenario.scenario import Scenario
 from flexride.scenario.solver import AUTO
 from flexride.solver import system as S
-from flexride.solver.assemble import Assembly, assemble, output_rate_for, with_step
+from flexride.solver.assemble import (
+    Assembly,
+    assemble,
+    flexible_body_facts,
+    output_rate_for,
+    with_step,
+)
 from flexride.solver.estimate import check_steps
 from flexride.solver.kernel import (
     STATUS_CHATTER,
@@ -251,6 +257,7 @@ class _Workspace:
     sn: np.ndarray
     cst: np.ndarray
     facc: np.ndarray
+    eacc: np.ndarray
     ptv: np.ndarray
     pscr: np.ndarray
     X_ref: np.ndarray
@@ -303,6 +310,7 @@ def _workspace(asm: Assembly, X0: np.ndarray, V0: np.ndarray, X_ref: np.ndarray,
         sn=np.zeros(nm),
         cst=np.zeros((nw, 2, S.N_CST)),
         facc=np.zeros((nw, 2, S.N_FACC)),
+        eacc=np.zeros((sysarr.el_force.shape[0], 3)),
         ptv=np.zeros((npnt, 2)),
         pscr=np.zeros((npnt, 2)),
         X_ref=X_ref,
@@ -403,6 +411,7 @@ def _run_chunks(asm: Assembly, scenario: Scenario, ws: _Workspace, report: Progr
             ws.sn,
             ws.cst,
             ws.facc,
+            ws.eacc,
             ws.ptv,
             ws.pscr,
             ws.X_ref,
@@ -521,6 +530,7 @@ def integrate(
         "friction": scenario.contact.friction,
         "flange_angle_rad": None if asm.profiles is None else asm.profiles.flange_angle(),
         "notes": cutoff_notes(scenario),
+        "flexible_bodies": flexible_body_facts(scenario, asm.vehicle),
     }
     report(1.0, "done")
     return _collect(asm, scenario, ws, meta)

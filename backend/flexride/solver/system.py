@@ -127,6 +127,10 @@ N_CST = 6
 CH_POINT_ACC_Y, CH_POINT_ACC_Z, CH_WHEEL_FZ, CH_WHEEL_FY, CH_RAIL_Z, CH_RAIL_Y, CH_COORD = range(7)
 CH_WHEEL_N = 7
 CH_WHEEL_N_FLANGE, CH_WHEEL_ANGLE = 8, 9
+#: force of a suspension element's translational spring–damper on its body A (channel ``a`` the
+#: element, ``b`` the direction 0 x, 1 y, 2 z; N, in A's track frame), the mean over the output
+#: interval of ``el_force`` (accumulated in ``eacc[element, direction]``)
+CH_ELEMENT_FORCE = 10
 
 # --- state scalars (tstate) ------------------------------------------------------------------
 T_TIME, T_WIN_S0, T_STEP, T_NREC, T_FIRST = range(5)
@@ -145,7 +149,13 @@ CHATTER_STEPS = 64
 
 
 class SystemArrays(NamedTuple):
-    """Everything the kernel needs: named scalars and flat NumPy arrays."""
+    """Everything the kernel needs: named scalars and flat NumPy arrays.
+
+    Keep the number of arrays down: the kernel's calls that take ``sys`` slow down with it in
+    a step, not smoothly. A 35th array (unused) beside the 34 of 2026-12-03 made every step
+    of the reference case 15 % slower (6.3 → 7.2 µs, alternating runs); hence the channel
+    recipes are one array ``ch`` (they were three) since ``el_force`` came: 33 arrays.
+    """
 
     par: Scalars  # named scalars
     minv: np.ndarray  # float64[n] inverse generalised mass
@@ -178,8 +188,9 @@ class SystemArrays(NamedTuple):
     line: np.ndarray  # float64[5, n_line] line geometry
     pt_body: np.ndarray  # int64[np] body of each recorded point
     pt_phi: np.ndarray  # int64[np] offset of the point's marker matrix
-    ch_kind: np.ndarray  # int64[nch]
-    ch_a: np.ndarray  # int64[nch]
-    ch_b: np.ndarray  # int64[nch]
+    ch: np.ndarray  # int64[nch, 3] recipe of each recorded channel: kind (CH_*), a, b
     # scratch: the kernel writes here, so one SystemArrays serves one thread at a time
     body_line: np.ndarray  # float64[nb, N_BL] line values at each body, see BL_*
+    # float64[ne, 3] translational spring–damper force (x, y, z) of each element on marker A,
+    # in A's track frame (N), written by every force evaluation (zero without translational rates)
+    el_force: np.ndarray
