@@ -8,6 +8,7 @@ from __future__ import annotations
 import html
 import json
 import math
+from collections.abc import Sequence
 from typing import Any
 
 __all__ = ["finite", "render_html"]
@@ -166,7 +167,8 @@ def _header(meta: dict[str, Any]) -> str:
 
 
 def render_html(meta: dict[str, Any], claims: list[dict[str, Any]],
-                figures: list[dict[str, Any]], plotly_js: str) -> str:
+                figures: list[dict[str, Any]], plotly_js: str,
+                appendix: Sequence[str] = ()) -> str:
     """The report page.
 
     Parameters
@@ -181,6 +183,10 @@ def render_html(meta: dict[str, Any], claims: list[dict[str, Any]],
         :func:`flexride.paper.figures.build_figures`.
     plotly_js : str
         The Plotly library, inlined.
+    appendix : sequence of str
+        Sections (HTML) after the paper's sections, e.g.
+        :func:`flexride.paper.carbody_map.section_html`; their panels are drawn from
+        ``figures`` like the others.
     """
     by_id = {f["id"]: f for f in figures}
     body = [_header(meta)]
@@ -189,6 +195,7 @@ def render_html(meta: dict[str, Any], claims: list[dict[str, Any]],
         body.append(f"<h2 id='{anchor}'>{_e(title)}</h2>")
         body += [_figure_html(by_id[f]) for f in fig_ids if f in by_id]
         body.append(_claims_table(mine))
+    body += list(appendix)
     data = json.dumps(finite([f for f in figures if f["panels"]]), separators=(",", ":"),
                       allow_nan=False).replace("</", "<\\/")
     return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"

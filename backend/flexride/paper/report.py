@@ -22,6 +22,7 @@ from typing import Any
 from flexride import __version__
 from flexride.analysis.sperling import spectral_form_text
 from flexride.fileio import write_bytes_atomic
+from flexride.paper import carbody_map
 from flexride.paper.claims import evaluate_all
 from flexride.paper.data import StudyData
 from flexride.paper.figures import build_figures
@@ -178,6 +179,7 @@ def run_report(directory: str | Path, options: ReportOptions | None = None,
     out = Path(directory)
     _check_directory(out)
     plan = build_plan(options) if plan is None else plan
+    cmap = carbody_map.load_map()  # stored evidence on the car-body inputs: fail before the runs
     say("Table 1: modal analysis of the car body", 0, len(plan))
     modal = car_body_modes(options)
     if runs is None:
@@ -186,14 +188,15 @@ def run_report(directory: str | Path, options: ReportOptions | None = None,
         outcome = runs(plan, say)
     data = StudyData(outcome.records, modal)
     say("judging the claims and drawing the figures", len(plan), len(plan))
-    claims = [r.to_dict() for r in evaluate_all(data)]
+    claims = carbody_map.annotate([r.to_dict() for r in evaluate_all(data)], cmap)
     tally = Counter(c["verdict"] for c in claims)
     counts = {v: tally.get(v, 0) for v in VERDICTS}
-    figures = build_figures(data)
+    figures = [*build_figures(data), *carbody_map.figures(cmap)]
     wall = time.perf_counter() - t0
     meta = _meta(options, plan, modal, outcome, counts, wall)
     _write_json(out / "summary.json", claims)
     _write_json(out / "report.json", meta)
-    page = render_html(meta, claims, figures, get_plotlyjs())
+    page = render_html(meta, claims, figures, get_plotlyjs(),
+                       appendix=[carbody_map.section_html(cmap)])
     _write(out / "index.html", page.encode("utf-8"))
     return ReportResult(out, claims, counts, outcome, wall)
