@@ -111,28 +111,11 @@ def test_the_calibrated_build_reports_its_calibration_and_pairing(make_client, t
     assert "no mode of type 'torsion'" in r.json()["message"]
 
 
-def test_an_estimate_of_a_calibrated_body_is_refused_while_the_engine_ignores_it(
-        sqlite_client):
-    """The frequency engine's vehicle (solver.assemble.vehicle_for) does not take the
-    calibration yet: the estimate is a 422 at the field, not the default body's answer."""
-    r = sqlite_client.post(f"{API}/estimates", json={
-        "preset": "paper-random-straight-80", "points": ["PC"],
-        "overrides": {"bodies.carbody.model": "flexible",
-                      "bodies.carbody.calibration": {"targets": TARGETS}}})
-    assert r.status_code == 422, r.text
-    item = r.json()["detail"][0]
-    assert item["loc"] == ["bodies", "carbody", "calibration"]
-    assert "not available yet" in item["msg"] and "calibration_targets=" in item["msg"]
-
-
 def test_an_estimate_of_a_calibrated_body_not_built_is_409_naming_the_build(sqlite_client,
                                                                           monkeypatch):
-    """Once the engine takes the calibration: a calibrated body counts as built only when its
-    calibration and body are in the FE cache (409 otherwise), nothing calibrates here."""
-    import flexride.api.services.estimates as svc_est
+    """A calibrated body counts as built only when its calibration and body are in the FE
+    cache (409 otherwise), nothing calibrates here."""
     import flexride.fem.calibration as fe_calibration
-
-    monkeypatch.setattr(svc_est, "CALIBRATED_CARBODY_ESTIMATES", True)
 
     def no_calibration(*_a: Any, **_k: Any) -> None:
         raise AssertionError("a calibration ran in the API process")

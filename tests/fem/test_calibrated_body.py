@@ -215,11 +215,6 @@ def test_the_cli_builds_the_calibrated_body_with_the_same_spelling(cache_dir, tm
     assert r.exit_code == 2 and "car body" in r.output
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "solver/assemble.py's _flexible does not pass bodies.carbody.calibration to "
-    "build_flexible_body yet (one keyword: calibration=settings.calibration); a simulation "
-    "of a calibrated scenario runs the default car body until it does; then also set "
-    "api/services/estimates.py CALIBRATED_CARBODY_ESTIMATES = True"))
 def test_the_assembled_vehicle_of_a_calibrated_scenario_has_the_calibrated_car_body(
         cache_dir):
     from flexride.solver.assemble import vehicle_for
@@ -228,3 +223,11 @@ def test_the_assembled_vehicle_of_a_calibrated_scenario_has_the_calibrated_car_b
     veh = vehicle_for(sc)
     carbody = next(b for b in veh.bodies if b.name == "carbody")
     assert carbody.info["calibration"]["targets"] == "6.5:rhombic,5.59:first vertical bending"
+    # the run's metadata says what the car body was calibrated to
+    import json
+
+    from flexride.solver.assemble import flexible_body_facts
+
+    facts = json.loads(json.dumps(flexible_body_facts(sc, veh)))
+    assert facts["carbody"]["calibration"] == json.loads(json.dumps(
+        carbody.info["calibration"]))

@@ -148,7 +148,8 @@ def _flexible(kind: Literal["carbody", "frame"], scenario: Scenario, settings, n
     damping = RayleighThroughModes(zeta, zeta) if settings.damping_model == "rayleigh" else zeta
     fb = build_flexible_body(kind, scenario.vehicle, method=settings.reduction,
                              cutoff_hz=settings.cutoff_hz, damping_ratio=damping,
-                             element_size=settings.element_size_m, name=name, x_ref=x_ref)
+                             element_size=settings.element_size_m, name=name, x_ref=x_ref,
+                             calibration=settings.calibration)
     return fb.body
 
 
@@ -196,7 +197,9 @@ def flexible_body_facts(scenario: Scenario, veh: VehicleModel) -> dict[str, dict
         prebuilt vehicle passed to the solver), ``element_size_m`` (m: the car body's shell
         elements, the frames' beam elements, i.e. ``frame_element_size`` of the setting; None
         for the beam car body and where the scenario does not say), ``elastic_frequencies_hz``
-        (Hz, the retained elastic modes in the body's order) and ``damping_ratios`` (-).
+        (Hz, the retained elastic modes in the body's order) and ``damping_ratios`` (-); a
+        calibrated car body (``bodies.carbody.calibration``) also its ``calibration``
+        (targets, calibrated values, pairs: ``ModalBody.info["calibration"]``).
     """
     facts: dict[str, dict[str, Any]] = {}
     for body in veh.bodies:
@@ -218,6 +221,8 @@ def flexible_body_facts(scenario: Scenario, veh: VehicleModel) -> dict[str, dict
             "elastic_frequencies_hz": [float(f) for f in body.elastic_frequencies],
             "damping_ratios": [float(z) for z in body.elastic_damping],
         }
+        if body.info.get("calibration") is not None:  # what the body was calibrated to
+            facts[body.name]["calibration"] = body.info["calibration"]
     return facts
 
 

@@ -13,10 +13,7 @@ result size do not matter here). Bounded work:
   model; a job or ``GET /fe/{kind}`` builds it); a calibrated car body
   (``bodies.carbody.calibration``) likewise: its calibration's outcome and the body of the
   calibrated values (409 otherwise, naming ``GET /fe/carbody?calibration_targets=…``: a
-  calibration takes minutes and runs only in a job worker) — but while the frequency engine's
-  vehicle assembly does not take the calibration (:data:`CALIBRATED_CARBODY_ESTIMATES`), a
-  calibrated car body is refused (422 at ``bodies.carbody.calibration``) rather than
-  estimated as the default body;
+  calibration takes minutes and runs only in a job worker);
 * at most :data:`MAX_CONCURRENT` estimates compute at once per process (503 with
   ``Retry-After`` beyond), in the threadpool of the synchronous route;
 * an answer is a pure function of the scenario and the options, so rendered answers are kept
@@ -150,28 +147,8 @@ def missing_fe_bodies(scenario: Scenario) -> list[tuple[str, str, str]]:
     return out
 
 
-#: Whether the frequency engine's vehicle (``solver.assemble.vehicle_for``) builds a car body
-#: with ``bodies.carbody.calibration`` as the calibrated one. Not yet: its ``_flexible`` does
-#: not pass the calibration to ``build_flexible_body`` (tests/fem/test_calibrated_body.py has
-#: the strict xfail that says when it does); until then such estimates are refused rather than
-#: answered for the default body.
-CALIBRATED_CARBODY_ESTIMATES = False
-
-
 def _check_fe(scenario: Scenario) -> None:
-    """Conflict (409) naming the first flexible body that is not built yet; 422 at
-    ``bodies.carbody.calibration`` for a calibrated car body while the frequency engine's
-    vehicle does not take it (:data:`CALIBRATED_CARBODY_ESTIMATES`).
-    """
-    cb = scenario.bodies.carbody
-    if cb.model == "flexible" and cb.calibration is not None and not \
-            CALIBRATED_CARBODY_ESTIMATES:
-        raise located_error([ErrorItem(("bodies", "carbody", "calibration"), (
-            "estimates of a calibrated car body are not available yet: the frequency "
-            "engine's vehicle assembly does not take bodies.carbody.calibration, so the "
-            "answer would be the default body's; estimate without the calibration, or see "
-            f"the calibrated body's modes and pairing at GET {API_PREFIX}/fe/carbody?"
-            f"calibration_targets={quote(cb.calibration.targets_spelling())}"))], "scenario")
+    """Conflict (409) naming the first flexible body that is not built yet."""
     missing = missing_fe_bodies(scenario)
     if not missing:
         return
