@@ -126,7 +126,7 @@ def test_the_section_renders_every_input_and_claim_from_the_stored_json(stored):
         assert c["label"] in page
     # a number of the table, recomputed from the per-seed values
     est, _ = stored.ratio(stored.speeds[0], "default", "PC", "sperling")
-    assert f"{100.0 * (est.mean - 1.0):+.1f} ± {100.0 * est.ci95:.1f} %" in page
+    assert f"{100.0 * (est.mean - 1.0):+.1f} ± {100.0 * est.ci95:.1f} % (" in page
     figs = cm.figures(stored)
     panels = figs[0]["panels"]
     assert len(panels) == 3 * len(stored.speeds)

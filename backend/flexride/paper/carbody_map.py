@@ -239,10 +239,10 @@ def evidence(m: CarbodyMap) -> list[dict[str, Any]]:
     Returns
     -------
     list of dict
-        ``{"claim", "speed_kmh", "input", "kind", "time": {"value", "ci95", "n", "seeds"} or
-        None, "engine": float, "reproduced": bool, "report_rule": bool or None, "range":
-        [lo, hi] (beam sweeps)}``; changes are flexible/rigid − 1, the ordering's value is
-        PC's rank among the six points (1 = quietest).
+        ``{"claim", "speed_kmh", "input", "kind", "time": {"value", "ci95", "n", "seeds",
+        "seeds_agreeing"} or None, "engine": float, "reproduced": bool, "report_rule": bool
+        or None, "range": [lo, hi] (beam sweeps)}``; changes are flexible/rigid − 1, the
+        ordering's value is PC's rank among the six points (1 = quietest).
     """
     rows: list[dict[str, Any]] = []
     labels = {c["key"]: c["label"] for c in m.corners}
@@ -279,7 +279,14 @@ def _corner_row(m: CarbodyMap, claim: PcClaim, v: str, key: str, label: str,
         return row | {"time": None, "engine": 0.0, "reproduced": False}
     est, seeds = m.ratio(v, key, "PC", q)
     change = est.mean - 1.0
-    return row | {"time": {"value": change, "ci95": est.ci95, "n": est.n, "seeds": seeds},
+    rigid = dict(zip(m.time(v, "rigid")["seeds"], m.time(v, "rigid")["values"]["PC"][q],
+                     strict=True))
+    body = m.time(v, key)
+    each = sum(agrees(x / rigid[s] - 1.0, paper)
+               for s, x in zip(body["seeds"], body["values"]["PC"][q], strict=True)
+               if s in rigid)
+    return row | {"time": {"value": change, "ci95": est.ci95, "n": est.n, "seeds": seeds,
+                           "seeds_agreeing": each},
                   "engine": change_eng, "reproduced": agrees(change, paper),
                   "report_rule": report_rule(change, paper)}
 
@@ -323,7 +330,8 @@ def _time_text(claim: PcClaim, row: dict[str, Any]) -> str:
     if claim.quantity is None:
         return f"PC rank {t['value']} of 6 (mean of {t['n']} seeds)"
     ci = f" ± {100.0 * t['ci95']:.1f}" if t["ci95"] is not None else ""
-    return f"{100.0 * t['value']:+.1f}{ci} % ({t['n']} seeds)"
+    return (f"{100.0 * t['value']:+.1f}{ci} % ({t['n']} seeds, {t['seeds_agreeing']} of them "
+            "agreeing)")
 
 
 def _engine_text(claim: PcClaim, row: dict[str, Any]) -> str:
