@@ -133,10 +133,10 @@ def test_too_many_steps(sqlite_client):
 def test_result_size_is_estimated_from_channels_and_samples(make_client):
     client = make_client(max_result_mb=5.0)
     r = client.post(API + "/jobs/validate", json={
-        "preset": "paper-metro", "overrides": {"duration_s": 5, "distance_m": None}})
+        "preset": "paper-metro", "overrides": {"duration_s": 4, "distance_m": None}})
     est = r.json()["estimate"]
-    # 5 s at the 1 kHz default rate; 8 bytes per value
-    assert est["samples"] == 5000 and est["result_bytes"] == est["channels"] * 5000 * 8
+    # 4 s at the 1 kHz default rate; 8 bytes per value
+    assert est["samples"] == 4000 and est["result_bytes"] == est["channels"] * 4000 * 8
     item = _item(client.post(API + "/jobs", json={
         "preset": "paper-metro", "overrides": {"duration_s": 10, "distance_m": None}}))
     assert item["loc"] == ["duration_s"] and "limit of 5 MB" in item["msg"]

@@ -194,8 +194,14 @@ def test_the_frame_modes_match_a_dense_solution_and_the_inertia_count(frame, veh
     with threadpool_limits(limits=1, user_api="blas"):  # two threads crawl on a loaded machine
         assert modes.frequencies.size == _negative_eigenvalues((K - sigma * M).toarray()) - 6
         w2 = la.eigh(K.toarray(), M.toarray(), eigvals_only=True)
-    dense = _hz(w2[6:][w2[6:] <= sigma])
-    np.testing.assert_allclose(modes.frequencies, dense, rtol=1e-8)
+    kept = w2[6:][w2[6:] <= sigma]
+    dense = _hz(kept)
+    # the dense reference is accurate to about eps·λ_max in ω² (backward stability of the
+    # symmetric-definite solution: 2.4e-6 relative at the first mode, λ_max/λ_1 ≈ 1e10), half of
+    # that in frequency; the sparse path has agreed to 3e-8 (a LAPACK release moved the dense
+    # first mode by that, beyond the former fixed 1e-8)
+    bound = 0.5 * np.finfo(float).eps * w2[-1] / kept
+    assert np.all(np.abs(modes.frequencies / dense - 1.0) <= np.maximum(bound, 1e-10))
 
 
 @pytest.fixture(scope="module")

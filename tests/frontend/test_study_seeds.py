@@ -124,7 +124,8 @@ def test_new_study_form_takes_seeds_section_and_offers_the_report(page, server):
     assert "1 to 20" in page.locator("#study-seeds-err").inner_text()
     # the paper report: quick or full, its runs fixed by the plan
     assert page.locator("#run-report-quick").inner_text() == "Run quick report"
-    assert "96 jobs" in page.locator("#run-report-full").inner_text()  # 16 + 16 · 5 seeds
+    # 16 + 16 · 5 seeds, and the element-size pre-calculation's 2 tracks × 6 meshes
+    assert "108 jobs" in page.locator("#run-report-full").inner_text()
 
 
 def test_the_cut_off_choice_reaches_the_study(page, server):

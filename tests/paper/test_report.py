@@ -47,8 +47,8 @@ def test_index_html_is_self_contained_and_embeds_plotly(tiny_report):
     assert {"fig4", "fig6", "fig7", "fig10", "fig24", "fig26"} <= {f["id"] for f in figures}
     fig4 = next(f for f in figures if f["id"] == "fig4")
     assert len(fig4["panels"]) == 4 and not fig4["note"]  # 2 tracks x (largest value, rms)
-    assert [t["x"] for t in fig4["panels"][0]["data"] if t["mode"] == "lines+markers"][0] == [
-        0.5, 0.6, 0.7]
+    meshes = next(t for t in fig4["panels"][0]["data"] if t["mode"] == "lines+markers")
+    assert meshes["x"] == [0.5, 0.6, 0.7]
     assert "Shortened study" in page and "Model overrides" in page
     assert "s8.fig26.pr-lag" in page
 

@@ -82,3 +82,18 @@ def test_equilibrium_converges_over_any_alignment_with_real_profiles(seed):
     v = sc.vehicle
     weight = (v.carbody.mass + 2 * v.frame.mass + 4 * v.wheelset.mass) * 9.81
     assert np.sum(aux[:, :, AUX_FZ]) == pytest.approx(weight, rel=1e-4)
+
+
+def test_a_free_motion_gives_the_least_norm_newton_step():
+    """A singular steady-state Jacobian (a motion no force resists, e.g. the car body and
+    frames laterally free of the wheelsets): the step solves the consistent equations and
+    leaves the free motion alone (no component along the null space)."""
+    from flexride.solver.steady import _newton_step
+
+    J = np.array([[2.0, 0.0, 0.0], [0.0, 1.0, -1.0], [0.0, -1.0, 1.0]])  # null: (0, 1, 1)
+    rhs = np.array([4.0, 1.0, -1.0])
+    dz = _newton_step(J, rhs)
+    np.testing.assert_allclose(J @ dz, rhs, atol=1e-12)
+    assert abs(dz @ np.array([0.0, 1.0, 1.0])) < 1e-12
+    np.testing.assert_allclose(_newton_step(np.diag([2.0, 4.0]), np.array([2.0, 2.0])),
+                               [1.0, 0.5])

@@ -63,6 +63,18 @@ def steady_unknowns(asm: Assembly) -> tuple[np.ndarray, np.ndarray]:
     return np.setdiff1d(np.arange(asm.sys.minv.shape[0]), spin), spin
 
 
+def _newton_step(J: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """The Newton step ``J⁻¹ rhs``, or, where ``J`` is singular — a vehicle with a free
+    motion, e.g. the car body and frames laterally free of the wheelsets when the primary has
+    no lateral stiffness: every lateral position is a steady state — the least-norm step, which
+    leaves the free motion where it is.
+    """
+    try:
+        return np.linalg.solve(J, rhs)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(J, rhs, rcond=None)[0]
+
+
 def steady_state(asm: Assembly, s: float, s_win0: float, X: np.ndarray,
                  max_iter: int = 30) -> tuple[np.ndarray, np.ndarray]:
     """Steady state at ``s`` (m): every acceleration zero, solved for all coordinates but the
@@ -90,7 +102,7 @@ def steady_state(asm: Assembly, s: float, s_win0: float, X: np.ndarray,
         res = float(np.linalg.norm(r))
         J = np.hstack([jacobian(sys, X, V, s, s_win0, keep),
                        jacobian(sys, X, V, s, s_win0, spin, wrt_velocity=True)])
-        dz = np.linalg.solve(J * scale[:, None], -r)
+        dz = _newton_step(J * scale[:, None], -r)
         lam = 1.0
         for _ls in range(20):
             Xt, Vt = X.copy(), V.copy()
