@@ -34,16 +34,7 @@ DEFAULT_VARIABLES: tuple[str, ...] = (
 #: Variables of the default car body's calibration (the keys of
 #: :data:`flexride.fem.defaults.CARBODY_CALIBRATED`, a test checks it): those a scenario's
 #: ``bodies.carbody.calibration`` updates when it names none.
-DEFAULT_BODY_VARIABLES: tuple[str, ...] = (
-    "floor_depth",
-    "wall_depth",
-    "roof_depth",
-    "end_depth",
-    "beam_scale",
-    "nsm_underfloor",
-    "wall_face",
-    "roof_face",
-)
+DEFAULT_BODY_VARIABLES: tuple[str, ...] = (*DEFAULT_VARIABLES, "wall_face", "roof_face")
 
 
 def least_budget(n_variables: int) -> int:
